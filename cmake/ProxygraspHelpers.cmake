@@ -1,0 +1,53 @@
+# Shared build settings and the helpers every module uses.
+
+# compile options for all project targets
+add_library(proxygrasp_options INTERFACE)
+target_compile_options(proxygrasp_options INTERFACE -Wall -Wextra -Wpedantic)
+# GCC 12 reports false -Wrestrict errors inside libstdc++ for plain `"a" + std::string` at -O2
+# (GCC bug 105651, fixed in GCC 13); everything else stays on
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+  target_compile_options(proxygrasp_options INTERFACE -Wno-restrict)
+endif()
+if(PROXYGRASP_WERROR)
+  target_compile_options(proxygrasp_options INTERFACE -Werror)
+endif()
+if(PROXYGRASP_SANITIZE)
+  target_compile_options(proxygrasp_options INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer
+                                                      -fno-sanitize-recover=undefined)
+  target_link_options(proxygrasp_options INTERFACE -fsanitize=address,undefined)
+endif()
+
+# proxygrasp_module(name SOURCES ... DEPS ...): one CMake library per module, target pg_<name>.
+# Public headers live in include/proxygrasp/<name>/, private ones beside the sources.
+function(proxygrasp_module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_library(pg_${name} STATIC ${ARG_SOURCES})
+  target_include_directories(pg_${name} PUBLIC ${PROJECT_SOURCE_DIR}/include
+                                        PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  target_link_libraries(pg_${name} PUBLIC ${ARG_DEPS} PRIVATE proxygrasp_options)
+endfunction()
+
+# proxygrasp_test(module name [LIBS ...]): builds tests/<module>/<name>_test.cpp into one GoogleTest
+# executable and registers each of its tests with CTest, labelled with the module.
+function(proxygrasp_test module name)
+  cmake_parse_arguments(ARG "" "TIMEOUT" "LIBS" ${ARGN})
+  set(target test_${module}_${name})
+  add_executable(${target} ${CMAKE_CURRENT_SOURCE_DIR}/${module}/${name}_test.cpp)
+  if(TARGET pg_${module})
+    target_link_libraries(${target} PRIVATE pg_${module})
+  endif()
+  target_link_libraries(${target} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main
+                                          proxygrasp_options)
+  target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/include
+                                               ${CMAKE_CURRENT_SOURCE_DIR})
+  target_compile_definitions(${target} PRIVATE
+    PROXYGRASP_TESTDATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/${module}/testdata"
+    PROXYGRASP_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+    PROXYGRASP_BIN="$<TARGET_FILE:proxygrasp>")
+  add_dependencies(${target} proxygrasp)
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 300)
+  endif()
+  gtest_discover_tests(${target} DISCOVERY_MODE PRE_TEST
+                       PROPERTIES LABELS ${module} TIMEOUT ${ARG_TIMEOUT})
+endfunction()

@@ -1,0 +1,79 @@
+// Parameter reflection. Every tunable struct has a Describe(Params&, ParamVisitor&) function that
+// names each field with its key, range, unit and one-line doc. The level loader, `--set`, the
+// tuning panel, "Copy as TOML" and docs/levels.md all walk the same description, so a parameter
+// has one name in code, in TOML and in the docs.
+#pragma once
+
+#include "proxygrasp/core/error.h"
+
+#include <functional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pg {
+
+/// Receives the fields of a parameter struct, by reference, one call each.
+class ParamVisitor {
+ public:
+  virtual ~ParamVisitor() = default;
+
+  /// A real number in [min, max]. unit is "cm", "g", "dyn", "s", "Hz", "deg", "1" (none), ...
+  virtual void Real(const char* key, double& value, double min, double max, const char* unit,
+                    const char* doc) = 0;
+  /// An integer in [min, max].
+  virtual void Integer(const char* key, int& value, int min, int max, const char* unit,
+                       const char* doc) = 0;
+  /// A flag.
+  virtual void Boolean(const char* key, bool& value, const char* doc) = 0;
+  /// One of a fixed list of names; value is the index into names.
+  virtual void Choice(const char* key, int& value, std::span<const char* const> names,
+                      const char* doc) = 0;
+  /// Free text (a file path, say).
+  virtual void Text(const char* key, std::string& value, const char* doc) = 0;
+};
+
+/// Visits an enum field as a Choice; E's values must be 0..names.size()-1 in order.
+template <typename E>
+void VisitEnum(ParamVisitor& v, const char* key, E& value, std::span<const char* const> names,
+               const char* doc) {
+  int index = static_cast<int>(value);
+  v.Choice(key, index, names, doc);
+  value = static_cast<E>(index);
+}
+
+/// A named parameter table: the TOML section name and a function that describes the struct.
+struct ParamSection {
+  std::string name;                             ///< TOML table name, e.g. "physics"
+  std::function<void(ParamVisitor&)> describe;  ///< visits the live struct's fields
+};
+
+/// What one field is, for listings, docs and validation.
+struct FieldInfo {
+  enum class Type { kReal, kInteger, kBoolean, kChoice, kText };
+  std::string key;
+  Type type = Type::kReal;
+  double min = 0.0;
+  double max = 0.0;
+  std::string unit;
+  std::string doc;
+  std::vector<std::string> choices;  ///< for kChoice
+  std::string value;                 ///< current value as TOML text
+};
+
+/// Lists a section's fields with their current values.
+std::vector<FieldInfo> ListFields(const ParamSection& section);
+
+/// Sets a field from text ("0.3", "true", "raycast", "\"path\"" or path). Unknown keys get a
+/// "did you mean" hint; values out of range name the allowed range. Nothing changes on error.
+Status SetFieldFromText(const ParamSection& section, const std::string& key,
+                        const std::string& text);
+
+/// Writes the fields whose values differ from `defaults` as a TOML table ("[name]\nkey = value\n"),
+/// or "" when none differ.
+std::string ChangedFieldsAsToml(const ParamSection& current, const ParamSection& defaults);
+
+/// The TOML spelling of a field type, for messages ("a number", "an integer", ...).
+const char* TypeName(FieldInfo::Type type);
+
+}  // namespace pg

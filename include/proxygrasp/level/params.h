@@ -1,0 +1,30 @@
+// Every parameter table of a level in one struct, and the sections that map it onto TOML.
+#pragma once
+
+#include "proxygrasp/core/params.h"
+#include "proxygrasp/physics/types.h"
+#include "proxygrasp/proxies/types.h"
+#include "proxygrasp/sensing/types.h"
+#include "proxygrasp/tracking/types.h"
+
+#include <vector>
+
+namespace pg {
+
+/// All stage parameters of a level; each member is one TOML table.
+struct LevelParams {
+  TableParams table;
+  PhysicsParams physics;
+  ProxyParams proxies;
+  SensingParams sensing;
+  TrackingParams tracking;
+  SyntheticCameraParams camera;
+};
+
+/// The sections of p, in the order docs/levels.md lists them. The sections refer to p.
+std::vector<ParamSection> Sections(LevelParams& p);
+
+/// Sets "section.key" to a value given as text, as `--set section.key=value` does.
+Status SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text);
+
+}  // namespace pg

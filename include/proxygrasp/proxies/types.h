@@ -1,0 +1,88 @@
+// What the proxies stage takes and hands on: its parameters, the scene query it asks the physics
+// (answered from the previous frame), the particle feedback from the physics, and the particle
+// plan.
+#pragma once
+
+#include "proxygrasp/core/geometry.h"
+#include "proxygrasp/core/ids.h"
+#include "proxygrasp/core/params.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace pg {
+
+/// Persistent particle proxies (ITS 2009) or the per-frame baseline of Wilson et al. (UIST 2008).
+enum class ProxyMode { kPersistent, kInstant };
+inline constexpr const char* kProxyModeNames[] = {"persistent", "instant"};
+
+/// How successors are searched: exhaustive reference, exact running sums, or a predicted window.
+enum class MatchAlgorithm { kReference, kFast, kWindowed };
+inline constexpr const char* kMatchAlgorithmNames[] = {"reference", "fast", "windowed"};
+
+/// Where new particles go: by raycast onto the highest surface, or always on the table.
+enum class Placement { kRaycast, kGround };
+inline constexpr const char* kPlacementNames[] = {"raycast", "ground"};
+
+/// Parameters of the proxies stage. Section [proxies] of a level.
+struct ProxyParams {
+  ProxyMode mode = ProxyMode::kPersistent;
+  MatchAlgorithm algorithm = MatchAlgorithm::kFast;
+  int window = 8;               ///< n, contour points summed around each match (even), points
+  int searchRadius = 12;        ///< w, half-width of the windowed search, points
+  double fallbackScore = 0.25;  ///< windowed search falls back to the full search when its
+                                ///< best score per point exceeds this, cm^2
+  Placement placement = Placement::kRaycast;
+  double penetrationLimit = 1.5;   ///< a new contact deeper than this inside an object's
+                                   ///< footprint goes on its top, cm
+  double instantThreshold = 40.0;  ///< instant mode: Sobel magnitude that makes a particle, grey/px
+  double instantSpacing = 0.3;     ///< instant mode: spacing of the subsampled particles, cm
+};
+
+/// The scene as the proxies stage sees it (answered by the physics from the previous frame).
+class SceneQuery {
+ public:
+  virtual ~SceneQuery() = default;
+  /// Height of the top surface of the highest object whose footprint holds p, or 0 (the table), cm.
+  virtual double TopHeightAt(const Vec2& p) const = 0;
+  /// How deep p lies inside the footprint of the object it is in (the highest), or <= 0 when in
+  /// none; topHeight receives that object's top height (0 when in none). cm.
+  virtual double FootprintDepth(const Vec2& p, double* topHeight) const = 0;
+  /// The nearest point to p that lies outside every object's footprint (p itself when outside).
+  virtual Vec2 NearestOutside(const Vec2& p) const = 0;
+};
+
+/// Where a particle really is after the last physics step, fed back to the proxies stage.
+struct ParticleFeedback {
+  ParticleId id = kNoId;
+  Vec2 pos = Vec2::Zero();  ///< base body position, cm
+  double baseHeight = 0.0;  ///< height of the surface the stack rests on, cm
+};
+
+/// What happens to a particle this frame.
+enum class ParticleAction { kReused, kCreated, kDeleted };
+inline constexpr const char* kParticleActionNames[] = {"reused", "created", "deleted"};
+
+/// One particle in the plan.
+struct PlannedParticle {
+  ParticleId id = kNoId;
+  ContactId contact = kNoId;
+  int index = -1;  ///< contour point it follows this frame (-1 when deleted)
+  ParticleAction action = ParticleAction::kReused;
+  Vec2 target = Vec2::Zero();  ///< where kinematic control drives it by the frame's end, cm
+  Vec2 start = Vec2::Zero();   ///< created: where it is placed; otherwise unused, cm
+  double baseHeight = 0.0;     ///< created: height it rests at; reused: unchanged, cm
+};
+
+/// The output of the proxies stage for one frame; the physics applies it.
+struct ParticlePlan {
+  int64_t frame = 0;
+  std::vector<PlannedParticle> particles;
+  int reused = 0;
+  int created = 0;
+  int deleted = 0;
+};
+
+void Describe(ProxyParams& p, ParamVisitor& v);
+
+}  // namespace pg

@@ -1,0 +1,104 @@
+// What the sensing stage takes and hands on: contact shapes for the synthetic table camera, the
+// sensing parameters, and the contour frame (one Blob per connected component, in table cm).
+#pragma once
+
+#include "proxygrasp/core/geometry.h"
+#include "proxygrasp/core/params.h"
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pg {
+
+/// Kinds of contact shape the synthetic table camera can draw.
+enum class ShapeKind {
+  kCircle,          ///< a fingertip: radius
+  kEllipse,         ///< radiusX, radiusY
+  kCapsule,         ///< a segment of `length` swept by `radius` (a finger lying flat)
+  kConvexPolygon,   ///< points (local cm, any winding)
+  kConcavePolygon,  ///< points (local cm, any winding, simple)
+  kHandFive,        ///< a palm with five fingers spread, scaled by `scale`
+  kHandFlat,        ///< a flat hand, fingers together, scaled by `scale`
+  kHandCupped,      ///< the edge of a cupped hand: a C-shaped arc, scaled by `scale`
+};
+
+/// Names of ShapeKind values as used in level files, in enum order.
+inline constexpr const char* kShapeKindNames[] = {
+    "circle", "ellipse", "capsule", "convex", "concave", "hand_five", "hand_flat", "hand_cupped"};
+
+/// A contact shape placed on the table. Sizes in cm, angle in radians CCW. The local frame of a
+/// hand has the fingers pointing along +y and the palm centre at the origin.
+struct ContactShape {
+  ShapeKind kind = ShapeKind::kCircle;
+  double radius = 0.8;       ///< circle and capsule radius, cm
+  double radiusX = 1.2;      ///< ellipse semi-axis along local x, cm
+  double radiusY = 0.8;      ///< ellipse semi-axis along local y, cm
+  double length = 3.0;       ///< capsule length between the cap centres, along local x, cm
+  double scale = 1.0;        ///< hand size, non-dimensional; 1 is an adult hand about 19 cm long
+  std::vector<Vec2> points;  ///< polygon vertices in the local frame, cm
+  Pose2 pose;                ///< where the shape sits on the table
+  double pressure = 1.0;     ///< brightness of the contact, 0..1 of full contact, non-dimensional
+};
+
+/// Parameters of the synthetic table camera. Section [camera] of a level.
+struct SyntheticCameraParams {
+  int width = 640;              ///< image width, pixels
+  int height = 480;             ///< image height, pixels
+  double background = 40.0;     ///< mean background level, 8-bit grey
+  double contactLevel = 220.0;  ///< level of full contact, 8-bit grey
+  double haloLevel = 45.0;      ///< extra brightness of a hovering hand's halo, 8-bit grey
+  double haloWidth = 1.5;       ///< how far the halo reaches beyond a hand, cm
+  double vignetting = 0.25;     ///< brightness lost at the corners, fraction of background
+  double gradient = 12.0;       ///< slow left-to-right background ramp, 8-bit grey
+  double noise = 3.0;           ///< Gaussian sensor noise deviation, 8-bit grey
+  double distortion = 0.0;      ///< radial lens distortion k1, non-dimensional (0 = none)
+  double perspective = 0.0;     ///< camera-to-table keystone, fraction of the width (0 = none)
+  int seed = 1;                 ///< noise seed; the same seed gives the same frames
+};
+
+/// Threshold modes.
+enum class ThresholdMode { kFixed, kOtsu };
+inline constexpr const char* kThresholdModeNames[] = {"fixed", "auto"};
+
+/// Parameters of preprocessing and contour extraction. Section [sensing] of a level.
+struct SensingParams {
+  std::string calibration;  ///< calibration YAML file, "" maps the image linearly
+  ThresholdMode thresholdMode = ThresholdMode::kFixed;  ///< fixed level or automatic (Otsu)
+  double threshold = 60.0;   ///< fixed threshold on the normalized image, 8-bit grey
+  int backgroundFrames = 0;  ///< frames averaged into the background at start (0 = model)
+  int morphology = 1;        ///< radius of the open/close clean-up, pixels (0 = none)
+  double minArea = 0.5;      ///< smallest contact kept, cm^2
+  double spacing = 0.3;      ///< arc-length spacing of resampled contours, cm
+};
+
+/// One connected component: an evenly resampled outer contour and its summary, in table cm.
+struct Blob {
+  Contour contour;                ///< CCW, implicitly closed, spacing ~SensingParams::spacing
+  Vec2 centroid = Vec2::Zero();   ///< area centroid, cm
+  double area = 0.0;              ///< cm^2
+  Vec2 boundsMin = Vec2::Zero();  ///< bounding box corner, cm
+  Vec2 boundsMax = Vec2::Zero();  ///< bounding box corner, cm
+};
+
+/// A table-aligned image: pixel (u, v) covers table point origin + (u + 0.5, v + 0.5) * cmPerPixel.
+struct TableImage {
+  cv::Mat image;               ///< 8-bit level-normalized contact image (CV_8UC1)
+  double cmPerPixel = 0.1;     ///< cm
+  Vec2 origin = Vec2::Zero();  ///< table position of the image's top-left corner, cm
+};
+
+/// The output of the sensing stage for one camera frame.
+struct ContourFrame {
+  int64_t index = 0;        ///< frame number from 0
+  double time = 0.0;        ///< s
+  std::vector<Blob> blobs;  ///< one per connected component, largest first
+  TableImage tableImage;    ///< the contact image on the table grid (instant mode, drawing)
+};
+
+void Describe(SyntheticCameraParams& p, ParamVisitor& v);
+void Describe(SensingParams& p, ParamVisitor& v);
+
+}  // namespace pg

@@ -1,0 +1,151 @@
+#include "proxygrasp/core/geometry.h"
+
+#include "proxygrasp/core/units.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace pg {
+
+Vec2 Pose2::Apply(const Vec2& local) const {
+  return Rotate(local, angle) + pos;
+}
+
+Vec2 Pose2::Inverse(const Vec2& world) const {
+  return Rotate(world - pos, -angle);
+}
+
+Vec2 Rotate(const Vec2& v, double angle) {
+  const double c = std::cos(angle);
+  const double s = std::sin(angle);
+  return Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y());
+}
+
+double WrapAngle(double angle) {
+  double a = std::fmod(angle + kPi, 2.0 * kPi);
+  if (a <= 0.0) a += 2.0 * kPi;
+  return a - kPi;
+}
+
+double SignedArea(const Contour& c) {
+  const int n = static_cast<int>(c.cols());
+  double twice = 0.0;
+  for (int i = 0; i < n; ++i) {
+    twice += Cross(c.col(i), c.col((i + 1) % n));
+  }
+  return 0.5 * twice;
+}
+
+Vec2 PolygonCentroid(const Contour& c) {
+  const int n = static_cast<int>(c.cols());
+  assert(n > 0 && "centroid needs at least one point");
+  double twiceArea = 0.0;
+  Vec2 sum = Vec2::Zero();
+  for (int i = 0; i < n; ++i) {
+    const Vec2 a = c.col(i);
+    const Vec2 b = c.col((i + 1) % n);
+    const double w = Cross(a, b);
+    twiceArea += w;
+    sum += (a + b) * w;
+  }
+  // degenerate polygons fall back to the vertex mean
+  if (std::abs(twiceArea) < 1e-12) return c.rowwise().mean();
+  return sum / (3.0 * twiceArea);
+}
+
+double Perimeter(const Contour& c) {
+  const int n = static_cast<int>(c.cols());
+  double length = 0.0;
+  for (int i = 0; i < n; ++i) length += (c.col((i + 1) % n) - c.col(i)).norm();
+  return length;
+}
+
+Contour MakeCounterClockwise(const Contour& c) {
+  if (SignedArea(c) >= 0.0) return c;
+  return c.rowwise().reverse();
+}
+
+Contour ResampleClosed(const Contour& c, double spacing, int minPoints) {
+  assert(spacing > 0.0 && "resample spacing must be positive");
+  const int n = static_cast<int>(c.cols());
+  if (n == 0) return c;
+  const double total = Perimeter(c);
+  if (total <= 0.0) return c.leftCols(1);
+  const int count = std::max(minPoints, static_cast<int>(std::lround(total / spacing)));
+  const double step = total / count;
+
+  Contour out(2, count);
+  // walk the edges once, emitting a point every `step` of arc length
+  int edge = 0;
+  double edgeStart = 0.0;  // arc length at the start of the current edge
+  double edgeLength = (c.col(1 % n) - c.col(0)).norm();
+  for (int k = 0; k < count; ++k) {
+    const double s = k * step;
+    while (s > edgeStart + edgeLength && edge < n - 1) {
+      edgeStart += edgeLength;
+      ++edge;
+      edgeLength = (c.col((edge + 1) % n) - c.col(edge)).norm();
+    }
+    const double t = edgeLength > 0.0 ? std::clamp((s - edgeStart) / edgeLength, 0.0, 1.0) : 0.0;
+    out.col(k) = c.col(edge) + t * (c.col((edge + 1) % n) - c.col(edge));
+  }
+  return out;
+}
+
+bool PointInPolygon(const Contour& poly, const Vec2& p) {
+  const int n = static_cast<int>(poly.cols());
+  bool inside = false;
+  for (int i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2 a = poly.col(i);
+    const Vec2 b = poly.col(j);
+    if ((a.y() > p.y()) != (b.y() > p.y())) {
+      const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      if (p.x() < x) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (len2 <= 0.0) return (p - a).norm();
+  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+double DistanceToBoundary(const Contour& poly, const Vec2& p) {
+  const int n = static_cast<int>(poly.cols());
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i) {
+    best = std::min(best, DistanceToSegment(p, poly.col(i), poly.col((i + 1) % n)));
+  }
+  return best;
+}
+
+double SignedDistance(const Contour& poly, const Vec2& p) {
+  const double d = DistanceToBoundary(poly, p);
+  return PointInPolygon(poly, p) ? d : -d;
+}
+
+double HausdorffDistance(const Contour& a, const Contour& b) {
+  double worst = 0.0;
+  for (int i = 0; i < a.cols(); ++i) worst = std::max(worst, DistanceToBoundary(b, a.col(i)));
+  for (int i = 0; i < b.cols(); ++i) worst = std::max(worst, DistanceToBoundary(a, b.col(i)));
+  return worst;
+}
+
+Contour ToContour(const std::vector<Vec2>& points) {
+  Contour c(2, static_cast<Eigen::Index>(points.size()));
+  for (size_t i = 0; i < points.size(); ++i) c.col(static_cast<Eigen::Index>(i)) = points[i];
+  return c;
+}
+
+double SmoothStep(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+}  // namespace pg

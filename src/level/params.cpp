@@ -1,0 +1,33 @@
+#include "proxygrasp/level/params.h"
+
+#include "proxygrasp/core/text.h"
+
+namespace pg {
+
+std::vector<ParamSection> Sections(LevelParams& p) {
+  return {
+      {"table", [&p](ParamVisitor& v) { Describe(p.table, v); }},
+      {"physics", [&p](ParamVisitor& v) { Describe(p.physics, v); }},
+      {"proxies", [&p](ParamVisitor& v) { Describe(p.proxies, v); }},
+      {"sensing", [&p](ParamVisitor& v) { Describe(p.sensing, v); }},
+      {"tracking", [&p](ParamVisitor& v) { Describe(p.tracking, v); }},
+      {"camera", [&p](ParamVisitor& v) { Describe(p.camera, v); }},
+  };
+}
+
+Status SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text) {
+  const size_t dot = dottedKey.find('.');
+  if (dot == std::string::npos) {
+    return MakeError({}, "'" + dottedKey + "' must be section.key, e.g. physics.substeps");
+  }
+  const std::string section = dottedKey.substr(0, dot);
+  const std::string key = dottedKey.substr(dot + 1);
+  std::vector<std::string> names;
+  for (const ParamSection& s : Sections(p)) {
+    if (s.name == section) return SetFieldFromText(s, key, text);
+    names.push_back(s.name);
+  }
+  return MakeError({}, "unknown section '" + section + "'" + DidYouMean(section, names));
+}
+
+}  // namespace pg

@@ -1,0 +1,24 @@
+#include "proxygrasp/proxies/types.h"
+
+namespace pg {
+
+void Describe(ProxyParams& p, ParamVisitor& v) {
+  VisitEnum(v, "mode", p.mode, kProxyModeNames,
+            "persistent particle proxies, or per-frame (instant) particles");
+  VisitEnum(v, "algorithm", p.algorithm, kMatchAlgorithmNames, "successor search algorithm");
+  v.Integer("window", p.window, 0, 64, "points", "n, contour points summed around each match");
+  v.Integer("search_radius", p.searchRadius, 1, 512, "points",
+            "w, half-width of the windowed search around the predicted offset");
+  v.Real("fallback_score", p.fallbackScore, 0, 100, "cm^2",
+         "windowed search falls back to the full search above this best score per point");
+  VisitEnum(v, "placement", p.placement, kPlacementNames,
+            "new particles by raycast onto the highest surface, or always on the table");
+  v.Real("penetration_limit", p.penetrationLimit, 0, 100, "cm",
+         "a new contact deeper than this inside an object's footprint is placed on its top");
+  v.Real("instant_threshold", p.instantThreshold, 0, 2000, "grey/px",
+         "instant mode: Sobel magnitude that makes a particle");
+  v.Real("instant_spacing", p.instantSpacing, 0.05, 5, "cm",
+         "instant mode: spacing of the subsampled particles");
+}
+
+}  // namespace pg

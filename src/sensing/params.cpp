@@ -1,0 +1,34 @@
+#include "proxygrasp/sensing/types.h"
+
+namespace pg {
+
+void Describe(SyntheticCameraParams& p, ParamVisitor& v) {
+  v.Integer("width", p.width, 64, 4096, "px", "image width");
+  v.Integer("height", p.height, 48, 4096, "px", "image height");
+  v.Real("background", p.background, 0, 255, "grey", "mean background level");
+  v.Real("contact_level", p.contactLevel, 0, 255, "grey", "level of full contact");
+  v.Real("halo_level", p.haloLevel, 0, 255, "grey", "extra brightness of a hovering hand's halo");
+  v.Real("halo_width", p.haloWidth, 0, 20, "cm", "how far the halo reaches beyond a hand");
+  v.Real("vignetting", p.vignetting, 0, 1, "1", "background brightness lost at the corners");
+  v.Real("gradient", p.gradient, -128, 128, "grey", "slow left-to-right background ramp");
+  v.Real("noise", p.noise, 0, 64, "grey", "Gaussian sensor noise deviation");
+  v.Real("distortion", p.distortion, -1, 1, "1", "radial lens distortion k1 (0 = none)");
+  v.Real("perspective", p.perspective, 0, 0.3, "1",
+         "camera-to-table keystone as a fraction of the width (0 = none)");
+  v.Integer("seed", p.seed, 0, 2147483647, "1", "noise seed; the same seed gives the same frames");
+}
+
+void Describe(SensingParams& p, ParamVisitor& v) {
+  v.Text("calibration", p.calibration,
+         "calibration YAML written by `proxygrasp calibrate` (\"\" maps the image linearly)");
+  VisitEnum(v, "threshold_mode", p.thresholdMode, kThresholdModeNames,
+            "fixed threshold, or automatic (Otsu)");
+  v.Real("threshold", p.threshold, 1, 254, "grey", "fixed threshold on the normalized image");
+  v.Integer("background_frames", p.backgroundFrames, 0, 600, "frames",
+            "frames averaged into the background at start (0 = use the first frame model)");
+  v.Integer("morphology", p.morphology, 0, 8, "px", "radius of the open/close clean-up");
+  v.Real("min_area", p.minArea, 0, 1000, "cm^2", "smallest contact kept");
+  v.Real("spacing", p.spacing, 0.05, 5, "cm", "arc-length spacing of resampled contours");
+}
+
+}  // namespace pg

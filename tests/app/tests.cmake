@@ -1,0 +1,2 @@
+proxygrasp_test(app main)
+proxygrasp_test(app cmd_params)

@@ -1,0 +1,144 @@
+#include "proxygrasp/core/geometry.h"
+
+#include "proxygrasp/core/units.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pg {
+namespace {
+
+// exact arithmetic on small integers and halves: only rounding in the last bit is allowed
+constexpr double kExact = 1e-12;
+
+Contour Square(double side) {
+  return ToContour({{0, 0}, {side, 0}, {side, side}, {0, side}});
+}
+
+Contour Circle(double r, int n) {
+  Contour c(2, n);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * kPi * i / n;
+    c.col(i) = Vec2(r * std::cos(a), r * std::sin(a));
+  }
+  return c;
+}
+
+TEST(Geometry, RotateQuarterTurn) {
+  const Vec2 r = Rotate(Vec2(1, 0), kPi / 2);
+  EXPECT_NEAR(r.x(), 0.0, kExact);
+  EXPECT_NEAR(r.y(), 1.0, kExact);
+}
+
+TEST(Geometry, PoseApplyAndInverseRoundTrip) {
+  const Pose2 pose{Vec2(3, -2), DegToRad(30)};
+  const Vec2 local(1.5, 0.25);
+  const Vec2 world = pose.Apply(local);
+  EXPECT_NEAR((pose.Inverse(world) - local).norm(), 0.0, kExact);
+  // (1, 0) rotated by 30 degrees then moved
+  const Vec2 x = pose.Apply(Vec2(1, 0));
+  EXPECT_NEAR(x.x(), 3 + std::cos(DegToRad(30)), kExact);
+  EXPECT_NEAR(x.y(), -2 + std::sin(DegToRad(30)), kExact);
+}
+
+TEST(Geometry, WrapAngleRange) {
+  EXPECT_NEAR(WrapAngle(3 * kPi), kPi, kExact);
+  EXPECT_NEAR(WrapAngle(-kPi / 2 - 2 * kPi), -kPi / 2, kExact);
+  EXPECT_NEAR(WrapAngle(0.1), 0.1, kExact);
+  EXPECT_GT(WrapAngle(-kPi), 0.0);  // -pi maps to +pi: the interval is (-pi, pi]
+}
+
+TEST(Geometry, WrapIndexIsCyclic) {
+  EXPECT_EQ(WrapIndex(-1, 10), 9);
+  EXPECT_EQ(WrapIndex(10, 10), 0);
+  EXPECT_EQ(WrapIndex(-21, 10), 9);
+  EXPECT_EQ(WrapIndex(3, 10), 3);
+}
+
+TEST(Geometry, SquareAreaCentroidPerimeter) {
+  const Contour s = Square(2.0);
+  EXPECT_NEAR(SignedArea(s), 4.0, kExact);
+  EXPECT_NEAR(SignedArea(s.rowwise().reverse()), -4.0, kExact);
+  const Vec2 c = PolygonCentroid(s);
+  EXPECT_NEAR(c.x(), 1.0, kExact);
+  EXPECT_NEAR(c.y(), 1.0, kExact);
+  EXPECT_NEAR(Perimeter(s), 8.0, kExact);
+}
+
+TEST(Geometry, CentroidOfLShape) {
+  // two unit squares side by side and one on top of the left: centroid (5/6, 5/6)
+  const Contour l = ToContour({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}});
+  EXPECT_NEAR(SignedArea(l), 3.0, kExact);
+  const Vec2 c = PolygonCentroid(l);
+  EXPECT_NEAR(c.x(), 5.0 / 6.0, kExact);
+  EXPECT_NEAR(c.y(), 5.0 / 6.0, kExact);
+}
+
+TEST(Geometry, MakeCounterClockwiseReversesClockwise) {
+  const Contour cw = Square(1.0).rowwise().reverse();
+  EXPECT_LT(SignedArea(cw), 0.0);
+  EXPECT_GT(SignedArea(MakeCounterClockwise(cw)), 0.0);
+  EXPECT_GT(SignedArea(MakeCounterClockwise(Square(1.0))), 0.0);
+}
+
+TEST(Geometry, ResampleSquareEvenly) {
+  // perimeter 8, spacing 0.5 -> 16 points, each 0.5 from the next along the boundary
+  const Contour r = ResampleClosed(Square(2.0), 0.5);
+  ASSERT_EQ(r.cols(), 16);
+  for (int i = 0; i < r.cols(); ++i) {
+    const double d = (r.col((i + 1) % r.cols()) - r.col(i)).norm();
+    EXPECT_NEAR(d, 0.5, kExact) << "at " << i;
+  }
+  EXPECT_NEAR((r.col(0) - Vec2(0, 0)).norm(), 0.0, kExact);
+  EXPECT_NEAR((r.col(4) - Vec2(2, 0)).norm(), 0.0, kExact);
+}
+
+TEST(Geometry, ResampleRoundsCountAndKeepsMinimum) {
+  // perimeter 8 with spacing 3 -> round(2.67) = 3 points; spacing 100 -> the minimum of 3
+  EXPECT_EQ(ResampleClosed(Square(2.0), 3.0).cols(), 3);
+  EXPECT_EQ(ResampleClosed(Square(2.0), 100.0).cols(), 3);
+  EXPECT_EQ(ResampleClosed(Square(2.0), 100.0, 5).cols(), 5);
+}
+
+TEST(Geometry, ResampleCircleStaysOnCircle) {
+  // a 720-gon of radius 5: resampled points lie on it within the chord sagitta r(1-cos(pi/720))
+  const Contour r = ResampleClosed(Circle(5.0, 720), 0.3);
+  const double sagitta = 5.0 * (1.0 - std::cos(kPi / 720));
+  EXPECT_EQ(r.cols(), std::lround(Perimeter(Circle(5.0, 720)) / 0.3));
+  for (int i = 0; i < r.cols(); ++i) EXPECT_NEAR(r.col(i).norm(), 5.0, sagitta + kExact);
+}
+
+TEST(Geometry, PointInPolygonAndSignedDistance) {
+  const Contour s = Square(2.0);
+  EXPECT_TRUE(PointInPolygon(s, Vec2(1, 1)));
+  EXPECT_FALSE(PointInPolygon(s, Vec2(3, 1)));
+  EXPECT_NEAR(SignedDistance(s, Vec2(1, 0.5)), 0.5, kExact);
+  EXPECT_NEAR(SignedDistance(s, Vec2(3, 1)), -1.0, kExact);
+  EXPECT_NEAR(SignedDistance(s, Vec2(3, 3)), -std::sqrt(2.0), kExact);
+}
+
+TEST(Geometry, DistanceToSegmentEndsAndMiddle) {
+  EXPECT_NEAR(DistanceToSegment(Vec2(0, 1), Vec2(-1, 0), Vec2(1, 0)), 1.0, kExact);
+  EXPECT_NEAR(DistanceToSegment(Vec2(3, 0), Vec2(-1, 0), Vec2(1, 0)), 2.0, kExact);
+  EXPECT_NEAR(DistanceToSegment(Vec2(0, 2), Vec2(0, 0), Vec2(0, 0)), 2.0, kExact);
+}
+
+TEST(Geometry, HausdorffOfShiftedSquares) {
+  // shifting a square by 0.3 along x: the farthest vertex is 0.3 from the other boundary
+  Contour a = Square(2.0);
+  Contour b = a;
+  b.row(0).array() += 0.3;
+  EXPECT_NEAR(HausdorffDistance(a, b), 0.3, kExact);
+  EXPECT_NEAR(HausdorffDistance(a, a), 0.0, kExact);
+}
+
+TEST(Geometry, SmoothStepEndsAndMiddle) {
+  EXPECT_EQ(SmoothStep(-1.0), 0.0);
+  EXPECT_EQ(SmoothStep(2.0), 1.0);
+  EXPECT_NEAR(SmoothStep(0.5), 0.5, kExact);
+  EXPECT_NEAR(SmoothStep(0.25), 0.15625, kExact);
+}
+
+}  // namespace
+}  // namespace pg

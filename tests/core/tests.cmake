@@ -1,0 +1,5 @@
+proxygrasp_test(core error)
+proxygrasp_test(core geometry)
+proxygrasp_test(core params)
+proxygrasp_test(core rng)
+proxygrasp_test(core text)

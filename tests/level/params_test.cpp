@@ -1,0 +1,54 @@
+#include "proxygrasp/level/params.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+namespace pg {
+namespace {
+
+TEST(LevelParams, SectionsCoverEveryStage) {
+  LevelParams p;
+  std::set<std::string> names;
+  for (const ParamSection& s : Sections(p)) {
+    names.insert(s.name);
+    EXPECT_FALSE(ListFields(s).empty()) << s.name;
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"table", "physics", "proxies", "sensing", "tracking",
+                                          "camera"}));
+}
+
+TEST(LevelParams, KeysAreUniqueWithinASection) {
+  LevelParams p;
+  for (const ParamSection& s : Sections(p)) {
+    std::set<std::string> keys;
+    for (const FieldInfo& f : ListFields(s)) EXPECT_TRUE(keys.insert(f.key).second) << f.key;
+  }
+}
+
+TEST(LevelParams, DefaultsSuitA30InchTable) {
+  // a 30" 4:3 diagonal is 76.2 cm: 61 x 45.7 cm
+  LevelParams p;
+  EXPECT_EQ(p.table.width, 61.0);
+  EXPECT_EQ(p.table.height, 46.0);
+}
+
+TEST(LevelParams, SetParamByDottedKey) {
+  LevelParams p;
+  EXPECT_FALSE(SetParam(p, "physics.substeps", "8"));
+  EXPECT_EQ(p.physics.substeps, 8);
+  EXPECT_FALSE(SetParam(p, "proxies.placement", "ground"));
+  EXPECT_EQ(p.proxies.placement, Placement::kGround);
+  const Status bad = SetParam(p, "physic.substeps", "8");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->message, "unknown section 'physic' (did you mean 'physics'?)");
+  const Status noDot = SetParam(p, "substeps", "8");
+  ASSERT_TRUE(noDot);
+  EXPECT_NE(noDot->message.find("section.key"), std::string::npos);
+  const Status range = SetParam(p, "physics.layers", "17");
+  ASSERT_TRUE(range);
+  EXPECT_EQ(range->message, "physics.layers: value 17 is out of range [1, 16]");
+}
+
+}  // namespace
+}  // namespace pg
