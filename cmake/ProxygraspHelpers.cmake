@@ -51,3 +51,20 @@ function(proxygrasp_test module name)
   gtest_discover_tests(${target} DISCOVERY_MODE PRE_TEST
                        PROPERTIES LABELS ${module} TIMEOUT ${ARG_TIMEOUT})
 endfunction()
+
+# proxygrasp_bench(name LIBS ...): builds tests/bench/<name>_bench.cpp with Google Benchmark into
+# bench_<name> at the top of the build tree. Benchmarks are run by hand (see docs/performance.md),
+# never as timed tests.
+function(proxygrasp_bench name)
+  cmake_parse_arguments(ARG "" "" "LIBS" ${ARGN})
+  if(NOT PROXYGRASP_BUILD_BENCH)
+    return()
+  endif()
+  find_package(benchmark REQUIRED)
+  set(target bench_${name})
+  add_executable(${target} ${CMAKE_CURRENT_SOURCE_DIR}/bench/${name}_bench.cpp)
+  target_link_libraries(${target} PRIVATE ${ARG_LIBS} benchmark::benchmark proxygrasp_options)
+  target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/include
+                                               ${CMAKE_CURRENT_SOURCE_DIR})
+  set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR})
+endfunction()

@@ -2,12 +2,6 @@
 
 namespace pg {
 
-void Describe(TableParams& p, ParamVisitor& v) {
-  v.Real("width", p.width, 1, 1000, "cm", "table width along x");
-  v.Real("height", p.height, 1, 1000, "cm", "table depth along y");
-  v.Real("wall_thickness", p.wallThickness, 0.1, 100, "cm", "thickness of the edge walls");
-}
-
 void Describe(PhysicsParams& p, ParamVisitor& v) {
   v.Real("frame_rate", p.frameRate, 1, 1000, "Hz", "camera frames per second");
   v.Integer("substeps", p.substeps, 1, 64, "1", "physics substeps per frame");

@@ -4,18 +4,12 @@
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/core/geometry.h"
 #include "proxygrasp/core/params.h"
+#include "proxygrasp/core/table.h"
 
 #include <string>
 #include <vector>
 
 namespace pg {
-
-/// The table surface. Section [table] of a level. Defaults suit a 30" 4:3 table.
-struct TableParams {
-  double width = 61.0;         ///< along x, cm
-  double height = 46.0;        ///< along y, cm
-  double wallThickness = 2.0;  ///< thickness of the walls at the edges, cm
-};
 
 /// Parameters of the layered simulation. Section [physics] of a level.
 struct PhysicsParams {
@@ -63,7 +57,6 @@ struct ObjectSpec {
   SourceLoc loc;                   ///< where the level defines it, for messages
 };
 
-void Describe(TableParams& p, ParamVisitor& v);
 void Describe(PhysicsParams& p, ParamVisitor& v);
 
 }  // namespace pg

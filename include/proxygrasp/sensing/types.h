@@ -4,6 +4,7 @@
 
 #include "proxygrasp/core/geometry.h"
 #include "proxygrasp/core/params.h"
+#include "proxygrasp/core/table.h"
 
 #include <opencv2/core.hpp>
 
