@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 namespace pg {
 namespace {
@@ -586,6 +588,32 @@ TEST(Level, NothingIsHalfLoaded) {
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again.value().params.physics.layers, 3);
   EXPECT_EQ(again.value().objects.size(), first.value().objects.size());
+}
+
+TEST(Level, TheDocsExampleLoads) {
+  // docs/levels.md ends with a complete example; it must stay a valid level
+  std::ifstream in(std::string(PROXYGRASP_SOURCE_DIR) + "/docs/levels.md");
+  ASSERT_TRUE(in);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string doc = buffer.str();
+  const std::string begin = "<!-- example:begin -->\n```toml\n";
+  const size_t b = doc.find(begin);
+  const size_t e = doc.find("```\n<!-- example:end -->");
+  ASSERT_NE(b, std::string::npos);
+  ASSERT_NE(e, std::string::npos);
+  const std::string example = doc.substr(b + begin.size(), e - b - begin.size());
+  const Result<Level> r =
+      ParseLevel(example, std::string(PROXYGRASP_SOURCE_DIR) + "/levels/example.toml");
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  const Level& level = r.value();
+  EXPECT_EQ(level.objects.size(), 2u);
+  EXPECT_EQ(level.script.contacts.size(), 3u);
+  EXPECT_EQ(level.expectations.size(), 5u);
+  EXPECT_EQ(level.goals.size(), 2u);
+  EXPECT_EQ(level.variants.size(), 1u);
+  EXPECT_EQ(level.files.size(), 2u) << "it includes levels/base.toml";
+  EXPECT_EQ(LevelRuns(level).size(), 3u);
 }
 
 TEST(Level, SharedBaseOfThePapersLevelsLoads) {
