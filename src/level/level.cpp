@@ -26,6 +26,12 @@ bool Region::Contains(const Vec2& p) const {
   return p.x() >= min.x() && p.x() <= max.x() && p.y() >= min.y() && p.y() <= max.y();
 }
 
+bool Goal::IsMet(const Pose2& pose) const {
+  if (zone && !zone->Contains(pose.pos)) return false;
+  if (angle && std::abs(WrapAngle(pose.angle - *angle)) > tolerance) return false;
+  return true;
+}
+
 const ObjectSpec* Level::FindObject(std::string_view objectName) const {
   for (const ObjectSpec& o : objects) {
     if (o.name == objectName) return &o;
@@ -51,6 +57,10 @@ constexpr const char* kTopKeys[] = {"include", "name",    "description", "table"
                                     "script",  "expect",  "goals",       "variants"};
 constexpr const char* kParamTables[] = {"table",   "physics",  "proxies",
                                         "sensing", "tracking", "camera"};
+
+bool IsTopArray(std::string_view key) {
+  return std::find(std::begin(kTopArrays), std::end(kTopArrays), key) != std::end(kTopArrays);
+}
 
 // the name of a TOML value's type, for messages
 std::string TomlTypeName(const toml::node& n) {
@@ -395,10 +405,7 @@ class Loader {
   static void Merge(toml::table& base, toml::table& over, int depth, bool inScript = false) {
     for (auto&& [key, node] : over) {
       toml::node* existing = base.get(key);
-      const bool appends = (depth == 0 && std::find_if(std::begin(kTopArrays), std::end(kTopArrays),
-                                                       [&](const char* a) { return key == a; }) !=
-                                              std::end(kTopArrays)) ||
-                           (inScript && key == "contacts");
+      const bool appends = (depth == 0 && IsTopArray(key.str())) || (inScript && key == "contacts");
       if (existing && appends && existing->is_array() && node.is_array()) {
         for (toml::node& item : *node.as_array()) existing->as_array()->push_back(std::move(item));
       } else if (existing && !appends && existing->is_table() && node.is_table()) {
@@ -1014,6 +1021,64 @@ class Loader {
 };
 
 }  // namespace
+
+std::string ExpectationText(const Expectation& e) {
+  auto region = [](const Region& r) {
+    if (r.kind == Region::Kind::kCircle) {
+      return "within " + FormatDouble(r.radius) + " cm of " + VecText(r.center);
+    }
+    return "inside " + VecText(r.min) + ".." + VecText(r.max) + " cm";
+  };
+  // degrees come back from radians with a rounding error; a millionth is finer than any level
+  auto bounds = [](double low, double high, double scale, const char* unit) {
+    auto text = [scale](double v) { return FormatDouble(std::round(v * scale * 1e6) / 1e6); };
+    std::string s;
+    if (std::isfinite(low)) s += ">= " + text(low) + unit;
+    if (std::isfinite(high)) s += std::string(s.empty() ? "" : " and ") + "<= " + text(high) + unit;
+    return s;
+  };
+  std::string text;
+  switch (e.kind) {
+    case ExpectKind::kPosition:
+      text = e.object + " " + region(e.region);
+      break;
+    case ExpectKind::kRotation:
+      text = e.object + " turned " + bounds(e.minAngle, e.maxAngle, RadToDeg(1.0), " deg");
+      break;
+    case ExpectKind::kDisplacement:
+      text = e.object + " moved " + bounds(e.above, e.below, 1.0, " cm");
+      break;
+    case ExpectKind::kHeld:
+      text = e.object + (e.held ? " held" : " not held");
+      break;
+    case ExpectKind::kResting:
+      text = FormatDouble(e.fraction * 100) + "% of " + e.contact + " resting on " +
+             (e.OnTable() ? std::string("the table") : e.on);
+      break;
+  }
+  text += e.at ? " at " + FormatDouble(*e.at) + " s" : " at the end";
+  std::string qualifiers;
+  if (!e.variant.empty()) qualifiers += e.variant;
+  if (e.mode) {
+    qualifiers +=
+        (qualifiers.empty() ? "" : ", ") + std::string(kProxyModeNames[static_cast<int>(*e.mode)]);
+  }
+  if (!qualifiers.empty()) text += " (" + qualifiers + ")";
+  return text;
+}
+
+Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text) {
+  // check on a copy first so an error leaves every parameter set as it was
+  LevelParams probe = level.params;
+  if (Status s = SetParam(probe, dottedKey, text)) return s;
+  level.params = probe;
+  for (Variant& v : level.variants) {
+    const Status s = SetParam(v.params, dottedKey, text);
+    assert(!s && "a key valid for the level is valid for its variants");
+    (void)s;
+  }
+  return std::nullopt;
+}
 
 Result<Level> LoadLevel(const std::string& path) {
   return Loader().Load(path, std::nullopt);

@@ -672,6 +672,49 @@ TEST(LevelRuns, ForcedModeRunsOnlyThatMode) {
   EXPECT_FALSE(AppliesTo(level.expectations[3], persistent[0], level));
 }
 
+TEST(LevelRuns, SetOverridesTheLevelAndEveryVariant) {
+  Result<Level> r = LoadLevel(kData + "/complete.toml");
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  Level& level = r.value();
+  EXPECT_FALSE(SetLevelParam(level, "physics.stack_size", "5"));
+  EXPECT_EQ(level.params.physics.stackSize, 5);
+  EXPECT_EQ(level.variants[0].params.physics.stackSize, 5) << "the command line wins";
+  EXPECT_FALSE(SetLevelParam(level, "physics.substeps", "2"));
+  EXPECT_EQ(level.variants[0].params.physics.substeps, 2);
+  const Status bad = SetLevelParam(level, "physics.stack_size", "99");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->message, "physics.stack_size: value 99 is out of range [1, 16]");
+  EXPECT_EQ(level.params.physics.stackSize, 5);
+  EXPECT_EQ(level.variants[0].params.physics.stackSize, 5);
+}
+
+TEST(LevelText, ExpectationsDescribeThemselves) {
+  const Result<Level> r = LoadLevel(kData + "/complete.toml");
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  const auto& e = r.value().expectations;
+  EXPECT_EQ(ExpectationText(e[0]), "box turned >= 30 deg and <= 60 deg at the end");
+  EXPECT_EQ(ExpectationText(e[1]), "box within 1.5 cm of [30, 23] at 2 s");
+  EXPECT_EQ(ExpectationText(e[2]), "puck moved >= 0.5 cm at the end");
+  EXPECT_EQ(ExpectationText(e[3]), "box not held at 1.5 s (instant)");
+  EXPECT_EQ(ExpectationText(e[4]), "80% of thumb resting on the table at 2 s (single)");
+}
+
+TEST(Goal, MetInTheZoneAndWithinTheAngleModuloATurn) {
+  Goal g;
+  Region zone;
+  zone.min = Vec2(0, 0);
+  zone.max = Vec2(10, 10);
+  g.zone = zone;
+  g.angle = DegToRad(90);
+  g.tolerance = DegToRad(5);
+  EXPECT_TRUE(g.IsMet({Vec2(5, 5), DegToRad(94)}));
+  EXPECT_TRUE(g.IsMet({Vec2(5, 5), DegToRad(90 + 360)})) << "a full extra turn is the same mark";
+  EXPECT_FALSE(g.IsMet({Vec2(5, 5), DegToRad(96)}));
+  EXPECT_FALSE(g.IsMet({Vec2(11, 5), DegToRad(90)}));
+  g.angle.reset();
+  EXPECT_TRUE(g.IsMet({Vec2(5, 5), 2.0}));
+}
+
 TEST(Region, ContainsRectAndCircle) {
   Region rect;
   rect.min = Vec2(0, 0);

@@ -79,6 +79,10 @@ struct Goal {
   double tolerance = 10.0 * kPi / 180;  ///< allowed angle error, rad
   std::string label;                    ///< text drawn beside the goal
   SourceLoc loc;
+
+  /// True when an object at pose (cm, rad) is in the zone and within tolerance of the angle,
+  /// comparing angles modulo a full turn.
+  bool IsMet(const Pose2& pose) const;
 };
 
 /// A named set of parameter overrides on top of the level's own; expectations may name it.
@@ -106,6 +110,13 @@ struct Level {
   /// The variant with this name, or nullptr.
   const Variant* FindVariant(std::string_view variantName) const;
 };
+
+/// A one-line description of what e checks, for reports: "box held at 2 s (instant)".
+std::string ExpectationText(const Expectation& e);
+
+/// Sets "section.key" from text in the level's parameters and in every variant's, as the runner's
+/// `--set` does: the command line wins over the file, variants included. Nothing changes on error.
+Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text);
 
 /// Reads, validates and builds the level in the file at path.
 Result<Level> LoadLevel(const std::string& path);
