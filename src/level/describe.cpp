@@ -38,7 +38,8 @@ void DescribeObject(ObjectSpec& o, ParamVisitor& v) {
          "kinetic friction against the table, at most table_static");
   v.Real("object_friction", o.objectFriction, 0, 10, "1", "friction against objects and walls");
   v.Real("restitution", o.restitution, 0, 1, "1", "bounciness");
-  v.Vector("pos", o.pose.pos, -1000, 1000, "cm", "starting position on the table");
+  v.Vector("pos", o.pose.pos, -1000, 1000, "cm",
+           "starting position on the table (required; the footprint must lie on the table)");
   v.Angle("angle", o.pose.angle, -360, 360, "deg", "starting angle, counter-clockwise");
   v.Vector("velocity", o.velocity, -10000, 10000, "cm/s", "starting velocity");
   v.Angle("angular_velocity", o.angularVelocity, -36000, 36000, "deg/s",

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -104,6 +105,12 @@ std::string UnitSuffix(const char* unit) {
 
 std::string RangeText(double min, double max) {
   return "[" + FormatDouble(min) + ", " + FormatDouble(max) + "]";
+}
+
+// "[a, b]" rounded to a thousandth, enough for a footprint in cm
+std::string Span(double a, double b) {
+  auto round = [](double v) { return FormatDouble(std::round(v * 1000) / 1000 + 0.0); };
+  return "[" + round(a) + ", " + round(b) + "]";
 }
 
 std::string VecText(const Vec2& v) {
@@ -267,6 +274,36 @@ class TableReader final : public ParamVisitor {
   std::string m_prefix;
 };
 
+// the axis-aligned bounds of an object's footprint on the table at its starting pose, cm
+std::pair<Vec2, Vec2> FootprintBounds(const ObjectSpec& o) {
+  std::vector<Vec2> outline;
+  switch (o.shape) {
+    case ObjectShape::kBox:
+      outline = {Vec2(-0.5 * o.sizeX, -0.5 * o.sizeY), Vec2(0.5 * o.sizeX, -0.5 * o.sizeY),
+                 Vec2(0.5 * o.sizeX, 0.5 * o.sizeY), Vec2(-0.5 * o.sizeX, 0.5 * o.sizeY)};
+      break;
+    case ObjectShape::kCylinder:
+    case ObjectShape::kSphere:
+    case ObjectShape::kFrustum: {
+      // a frustum standing on its narrow end still overhangs with its wide one
+      const double r = std::max(o.radius, o.shape == ObjectShape::kFrustum ? o.topRadius : 0.0);
+      return {o.pose.pos - Vec2(r, r), o.pose.pos + Vec2(r, r)};
+    }
+    case ObjectShape::kConvexPrism:
+    case ObjectShape::kConcavePrism:
+      outline = o.points;
+      break;
+  }
+  Vec2 low = Vec2::Constant(std::numeric_limits<double>::infinity());
+  Vec2 high = -low;
+  for (const Vec2& p : outline) {
+    const Vec2 w = o.pose.Apply(p);
+    low = low.cwiseMin(w);
+    high = high.cwiseMax(w);
+  }
+  return {low, high};
+}
+
 // polygon checks shared by prisms and contact outlines; index is 1-based in messages
 std::optional<std::string> CheckPolygon(const std::vector<Vec2>& p, bool convex) {
   const size_t n = p.size();
@@ -424,9 +461,12 @@ class Loader {
     return {static_cast<int>(it - m_files.begin()), loc.line, loc.col};
   }
 
-  Status Earliest(const Errors& errors) const {
-    if (errors.empty()) return std::nullopt;
-    return *std::min_element(errors.begin(), errors.end(), [this](const Error& a, const Error& b) {
+  // the earliest error at a key or value; only when there is none, the earliest missing key, so
+  // a mistake the user wrote is reported before one they left out
+  Status Earliest(const Errors& errors, const Errors& missing = {}) const {
+    const Errors& first = errors.empty() ? missing : errors;
+    if (first.empty()) return std::nullopt;
+    return *std::min_element(first.begin(), first.end(), [this](const Error& a, const Error& b) {
       return Rank(a.loc) < Rank(b.loc);
     });
   }
@@ -550,8 +590,10 @@ class Loader {
     DescribeObject(o, reader);
     Errors errors = reader.errors;
     UnknownKeys(t, reader.known, " in an object", errors);
-    Missing(t, "name", "object", errors);
-    Missing(t, "shape", "object", errors);
+    Errors missing;
+    Missing(t, "name", "object", missing);
+    Missing(t, "shape", "object", missing);
+    Missing(t, "pos", "object", missing);
     const std::string shapeName = kObjectShapeNames[static_cast<int>(o.shape)];
     if (t.contains("shape") && !reader.bad.count("shape")) {
       std::string fits;
@@ -565,11 +607,11 @@ class Loader {
                                                         " (its size keys: " + fits + ")"));
       }
       if (ObjectKeyApplies(o.shape, "points") && !t.contains("points")) {
-        errors.push_back(
+        missing.push_back(
             MakeError(Loc(t.source()), "a " + shapeName + " object needs 'points', its outline"));
       }
     }
-    if (Status s = Earliest(errors)) return s;
+    if (Status s = Earliest(errors, missing)) return s;
 
     // meaning: a unique name, a valid outline, consistent friction and mass, on the table
     if (o.name.empty()) return MakeError(ValueLoc(t, "name"), "name must not be empty");
@@ -591,12 +633,15 @@ class Loader {
     if (t.contains("mass") && t.contains("density")) {
       return MakeError(KeyLoc(t, "density"), "give either mass or density, not both");
     }
+    // the whole footprint, not just the centre, must be on the table
     const TableParams& table = level.params.table;
-    if (o.pose.pos.x() < 0 || o.pose.pos.x() > table.width || o.pose.pos.y() < 0 ||
-        o.pose.pos.y() > table.height) {
-      return MakeError(ValueLoc(t, "pos"), "object '" + o.name + "' at " + VecText(o.pose.pos) +
-                                               " cm is off the " + FormatDouble(table.width) +
-                                               " x " + FormatDouble(table.height) + " cm table");
+    const auto [low, high] = FootprintBounds(o);
+    if (low.x() < 0 || low.y() < 0 || high.x() > table.width || high.y() > table.height) {
+      return MakeError(ValueLoc(t, "pos"),
+                       "object '" + o.name + "' reaches off the table: its footprint spans " +
+                           Span(low.x(), high.x()) + " x " + Span(low.y(), high.y()) +
+                           " cm, the table [0, " + FormatDouble(table.width) + "] x [0, " +
+                           FormatDouble(table.height) + "] cm");
     }
     return std::nullopt;
   }
@@ -659,9 +704,10 @@ class Loader {
     reader.known.emplace_back("keys");
     Errors errors = reader.errors;
     UnknownKeys(t, reader.known, " in a contact", errors);
-    Missing(t, "name", "contact", errors);
-    Missing(t, "shape", "contact", errors);
-    Missing(t, "keys", "contact", errors);
+    Errors missing;
+    Missing(t, "name", "contact", missing);
+    Missing(t, "shape", "contact", missing);
+    Missing(t, "keys", "contact", missing);
     const std::string shapeName = kShapeKindNames[static_cast<int>(contact.shape.kind)];
     if (t.contains("shape") && !reader.bad.count("shape")) {
       std::string fits;
@@ -677,11 +723,11 @@ class Loader {
                                                         " contact (its size keys: " + fits + ")"));
       }
       if (ContactKeyApplies(contact.shape.kind, "points") && !t.contains("points")) {
-        errors.push_back(
+        missing.push_back(
             MakeError(Loc(t.source()), "a " + shapeName + " contact needs 'points', its outline"));
       }
     }
-    if (Status s = Earliest(errors)) return s;
+    if (Status s = Earliest(errors, missing)) return s;
 
     // a unique name and a valid outline
     if (contact.name.empty()) return MakeError(ValueLoc(t, "name"), "name must not be empty");
@@ -721,10 +767,11 @@ class Loader {
       keyReader.Vector("pos", key.pose.pos, -1000, 1000, "cm", "");
       keyReader.Angle("angle", key.pose.angle, -36000, 36000, "deg", "");
       Errors keyErrors = keyReader.errors;
+      Errors keyMissing;
       UnknownKeys(*k, keyReader.known, " in a keyframe", keyErrors);
-      Missing(*k, "t", "keyframe", keyErrors);
-      Missing(*k, "pos", "keyframe", keyErrors);
-      if (Status s = Earliest(keyErrors)) return s;
+      Missing(*k, "t", "keyframe", keyMissing);
+      Missing(*k, "pos", "keyframe", keyMissing);
+      if (Status s = Earliest(keyErrors, keyMissing)) return s;
       if (!contact.keys.empty() && key.t <= contact.keys.back().t) {
         return MakeError(key.loc, "keyframe out of order: t = " + FormatDouble(key.t) +
                                       " s is not after the previous keyframe's t = " +
@@ -748,7 +795,8 @@ class Loader {
       std::vector<std::string> known(std::begin(kParamTables), std::end(kParamTables));
       known.emplace_back("name");
       UnknownKeys(*t, known, " in a variant", errors);
-      Missing(*t, "name", "variant", errors);
+      Errors missing;
+      Missing(*t, "name", "variant", missing);
       TableReader reader(*t, "");
       reader.Text("name", variant.name, "");
       errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
@@ -759,7 +807,7 @@ class Loader {
               Loc(n->source()), std::string(key) + " must be a table, got " + TomlTypeName(*n)));
         }
       }
-      if (Status s = Earliest(errors)) return s;
+      if (Status s = Earliest(errors, missing)) return s;
       if (variant.name.empty()) return MakeError(ValueLoc(*t, "name"), "name must not be empty");
       if (const Variant* first = level.FindVariant(variant.name)) {
         return MakeError(ValueLoc(*t, "name"), "duplicate variant name '" + variant.name +
@@ -789,20 +837,21 @@ class Loader {
     Region r;
     TableReader reader(t, "");
     Errors errors;
+    Errors missing;
     if (rect) {
       r.kind = Region::Kind::kRect;
       reader.Vector("min", r.min, -1000, 1000, "cm", "");
       reader.Vector("max", r.max, -1000, 1000, "cm", "");
       errors = reader.errors;
-      Missing(t, "min", what, errors);
-      Missing(t, "max", what, errors);
+      Missing(t, "min", what, missing);
+      Missing(t, "max", what, missing);
     } else {
       r.kind = Region::Kind::kCircle;
       reader.Vector("center", r.center, -1000, 1000, "cm", "");
       reader.Real("radius", r.radius, 0.001, 1000, "cm", "");
       errors = reader.errors;
-      Missing(t, "center", what, errors);
-      Missing(t, "radius", what, errors);
+      Missing(t, "center", what, missing);
+      Missing(t, "radius", what, missing);
     }
     if (!errors.empty()) {
       // the earliest in the file
@@ -810,6 +859,7 @@ class Loader {
         return std::tie(a.loc.line, a.loc.col) < std::tie(b.loc.line, b.loc.col);
       });
     }
+    if (!missing.empty()) return missing.front();
     if (rect && !(r.min.x() < r.max.x() && r.min.y() < r.max.y())) {
       return MakeError(ValueLoc(t, "max"), "max " + VecText(r.max) + " must be above min " +
                                                VecText(r.min) + " in both x and y");
@@ -898,8 +948,9 @@ class Loader {
     reader.Real("fraction", e.fraction, 0.01, 1, "", "");
     Errors errors = reader.errors;
     UnknownKeys(t, known, " in " + what, errors);
-    for (const std::string& key : required) Missing(t, key.c_str(), what, errors);
-    if (Status s = Earliest(errors)) return s;
+    Errors missing;
+    for (const std::string& key : required) Missing(t, key.c_str(), what, missing);
+    if (Status s = Earliest(errors, missing)) return s;
     if (t.contains("at")) e.at = at;
     if (t.contains("mode")) e.mode = mode;
     if (t.contains("min_deg")) e.minAngle = DegToRad(minDeg);
@@ -997,8 +1048,9 @@ class Loader {
       reader.known.insert(reader.known.end(), {"min", "max", "center", "radius"});
       Errors errors = reader.errors;
       UnknownKeys(*t, reader.known, " in a goal", errors);
-      Missing(*t, "object", "goal", errors);
-      if (Status s = Earliest(errors)) return s;
+      Errors missing;
+      Missing(*t, "object", "goal", missing);
+      if (Status s = Earliest(errors, missing)) return s;
       if (Status s = ReadRegion(*t, false, "a goal", g.zone)) return s;
       if (t->contains("angle_deg")) g.angle = DegToRad(angleDeg);
       if (t->contains("tolerance_deg") && !g.angle) {

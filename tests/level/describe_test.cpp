@@ -71,7 +71,8 @@ TEST(Describe, DocsListEveryObjectAndContactKeyWithItsDefault) {
   };
   const std::string objects = section("### [[objects]]");
   for (const FieldInfo& f : ObjectFields()) {
-    const std::string value = (f.key == "name" || f.key == "shape") ? "required" : f.value;
+    const bool required = f.key == "name" || f.key == "shape" || f.key == "pos";
+    const std::string value = required ? "required" : f.value;
     EXPECT_NE(objects.find("| `" + f.key + "` | `" + value + "` |"), std::string::npos)
         << "docs/levels.md [[objects]] lacks a row for " << f.key << " with default " << value;
   }

@@ -308,8 +308,13 @@ TEST(LevelErrors, MissingRequiredFields) {
             "inline.toml:2:1: object is missing required key 'name'");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\n"),
             "inline.toml:1:1: object is missing required key 'shape'");
-  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\n"),
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\npos = [5, 5]\n"),
             "inline.toml:1:1: a concave_prism object needs 'points', its outline");
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\n"),
+            "inline.toml:1:1: object is missing required key 'pos'");
+  // a mistake in a key that is there is reported before a key left out, wherever it is
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\nmass = -1\n"),
+            "inline.toml:4:8: mass must be in [0, 1e+06] g (got -1)");
   EXPECT_EQ(ErrorOf("[[script.contacts]]\nname = \"f\"\nshape = \"circle\"\n"),
             "inline.toml:1:1: contact is missing required key 'keys'");
   EXPECT_EQ(ErrorOf("[[script.contacts]]\nname = \"f\"\nshape = \"circle\"\n"
@@ -373,26 +378,26 @@ TEST(LevelErrors, SizeKeysMustFitTheShape) {
 
 TEST(LevelErrors, PrismOutlines) {
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"convex_prism\"\n"
-                    "points = [[0, 0], [1, 0]]\n"),
+                    "points = [[0, 0], [1, 0]]\npos = [5, 5]\n"),
             "inline.toml:4:10: points of a convex_prism needs at least 3 points, got 2");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"convex_prism\"\n"
-                    "points = [[0, 0], [4, 0], [1, 1], [0, 4]]\n"),
+                    "points = [[0, 0], [4, 0], [1, 1], [0, 4]]\npos = [5, 5]\n"),
             "inline.toml:4:10: points of a convex_prism is not convex: it turns the other way at "
             "point 3");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\n"
-                    "points = [[0, 0], [4, 0], [0, 4], [4, 4]]\n"),
+                    "points = [[0, 0], [4, 0], [0, 4], [4, 4]]\npos = [5, 5]\n"),
             "inline.toml:4:10: points of a concave_prism is not a simple polygon: edge 2-3 meets "
             "edge 4-1");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\n"
-                    "points = [[0, 0], [2, 0], [4, 0]]\n"),
+                    "points = [[0, 0], [2, 0], [4, 0]]\npos = [5, 5]\n"),
             "inline.toml:4:10: points of a concave_prism encloses no area");
   // a vertex touching a non-neighbouring edge makes it not simple either
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\n"
-                    "points = [[0, 0], [4, 0], [2, 0], [2, 2]]\n"),
+                    "points = [[0, 0], [4, 0], [2, 0], [2, 2]]\npos = [5, 5]\n"),
             "inline.toml:4:10: points of a concave_prism is not a simple polygon: edge 1-2 meets "
             "edge 3-4");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"convex_prism\"\n"
-                    "points = [[0, 0], [0, 0], [4, 0], [0, 4]]\n"),
+                    "points = [[0, 0], [0, 0], [4, 0], [0, 4]]\npos = [5, 5]\n"),
             "inline.toml:4:10: points of a convex_prism has coincident points 1 and 2");
   // a concave L is fine as a concave prism, either winding
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\npos = [5, 5]\n"
@@ -407,7 +412,8 @@ TEST(LevelErrors, PrismOutlines) {
 // ---- meaning ----
 
 TEST(LevelErrors, DuplicateNames) {
-  EXPECT_EQ(ErrorOf(std::string(kBox) + "[[objects]]\nname = \"box\"\nshape = \"sphere\"\n"),
+  EXPECT_EQ(ErrorOf(std::string(kBox) +
+                    "[[objects]]\nname = \"box\"\nshape = \"sphere\"\npos = [5, 5]\n"),
             "inline.toml:7:8: duplicate object name 'box' (first defined at inline.toml:2:1)");
   EXPECT_EQ(ErrorOf("[[script.contacts]]\nname = \"f\"\nshape = \"circle\"\n"
                     "keys = [{t = 0, pos = [1, 1]}]\n[[script.contacts]]\nname = \"f\"\n"
@@ -415,17 +421,35 @@ TEST(LevelErrors, DuplicateNames) {
             "inline.toml:6:8: duplicate contact name 'f' (first defined at inline.toml:1:1)");
   EXPECT_EQ(ErrorOf("[[variants]]\nname = \"v\"\n[[variants]]\nname = \"v\"\n"),
             "inline.toml:4:8: duplicate variant name 'v' (first defined at inline.toml:1:1)");
-  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"\"\nshape = \"box\"\n"),
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"\"\nshape = \"box\"\npos = [5, 5]\n"),
             "inline.toml:2:8: name must not be empty");
 }
 
 TEST(LevelErrors, ObjectConsistency) {
-  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\ntable_kinetic = 0.6\n"),
-            "inline.toml:4:17: table_kinetic (0.6) must not exceed table_static (0.4)");
-  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\nmass = 5\ndensity = 1\n"),
-            "inline.toml:5:1: give either mass or density, not both");
+  EXPECT_EQ(
+      ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\ntable_kinetic = 0.6\npos = [5, 5]\n"),
+      "inline.toml:4:17: table_kinetic (0.6) must not exceed table_static (0.4)");
+  EXPECT_EQ(
+      ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\nmass = 5\ndensity = 1\npos = [5, 5]\n"),
+      "inline.toml:5:1: give either mass or density, not both");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\npos = [70, 10]\n"),
-            "inline.toml:4:7: object 'a' at [70, 10] cm is off the 61 x 46 cm table");
+            "inline.toml:4:7: object 'a' reaches off the table: its footprint spans [68, 72] x [8, "
+            "12] cm, the table [0, 61] x [0, 46] cm");
+  // the footprint counts, not the centre: a box 4 cm wide at x = 1 overhangs the edge, a turned
+  // one reaches further, a frustum's wide top overhangs even when its base fits
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\npos = [1, 10]\n"),
+            "inline.toml:4:7: object 'a' reaches off the table: its footprint spans [-1, 3] x [8, "
+            "12] cm, the table [0, 61] x [0, 46] cm");
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\npos = [2.5, 10]\nangle = 45\n"),
+            "inline.toml:4:7: object 'a' reaches off the table: its footprint spans [-0.328, "
+            "5.328] x [7.172, 12.828] cm, the table [0, 61] x [0, 46] cm");
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"frustum\"\nradius = 1\ntop_radius = 3\n"
+                    "pos = [2, 10]\n"),
+            "inline.toml:6:7: object 'a' reaches off the table: its footprint spans [-1, 5] x [7, "
+            "13] cm, the table [0, 61] x [0, 46] cm");
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"convex_prism\"\npos = [59, 10]\n"
+                    "points = [[0, 0], [2, 0], [0, 2]]\n"),
+            "(loaded)");
   // the table's size comes from the level
   EXPECT_EQ(ErrorOf("[table]\nwidth = 80\n[[objects]]\nname = \"a\"\nshape = \"box\"\n"
                     "pos = [70, 10]\n"),
