@@ -24,6 +24,9 @@ std::string RangeText(const FieldInfo& f) {
     }
     case FieldInfo::Type::kText:
       return "text";
+    case FieldInfo::Type::kVector:
+    case FieldInfo::Type::kPoints:
+      return "each coordinate " + FormatDouble(f.min) + " .. " + FormatDouble(f.max);
   }
   return "";
 }

@@ -1,6 +1,7 @@
 #include "proxygrasp/core/params.h"
 
 #include "proxygrasp/core/text.h"
+#include "proxygrasp/core/units.h"
 
 #include <charconv>
 #include <cmath>
@@ -8,7 +9,31 @@
 
 namespace pg {
 
+void ParamVisitor::Angle(const char* key, double& radians, double minDeg, double maxDeg,
+                         const char* unit, const char* doc) {
+  // visit in degrees; write back only a changed value so an untouched angle keeps every bit
+  const double before = RadToDeg(radians);
+  double degrees = before;
+  Real(key, degrees, minDeg, maxDeg, unit, doc);
+  if (degrees != before) radians = DegToRad(degrees);
+}
+
+void ParamVisitor::Vector(const char*, Vec2&, double, double, const char*, const char*) {}
+
+void ParamVisitor::Points(const char*, std::vector<Vec2>&, double, double, const char*,
+                          const char*) {}
+
 namespace {
+
+std::string FormatVec(const Vec2& v) {
+  return "[" + FormatDouble(v.x()) + ", " + FormatDouble(v.y()) + "]";
+}
+
+std::string FormatPoints(const std::vector<Vec2>& points) {
+  std::string s = "[";
+  for (size_t i = 0; i < points.size(); ++i) s += (i ? ", " : "") + FormatVec(points[i]);
+  return s + "]";
+}
 
 std::string Quote(const std::string& s) {
   std::string out = "\"";
@@ -44,6 +69,14 @@ class Lister final : public ParamVisitor {
   void Text(const char* key, std::string& value, const char* doc) override {
     Add(key, FieldInfo::Type::kText, 0, 0, "", doc, Quote(value));
   }
+  void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
+              const char* doc) override {
+    Add(key, FieldInfo::Type::kVector, min, max, unit, doc, FormatVec(value));
+  }
+  void Points(const char* key, std::vector<Vec2>& value, double min, double max, const char* unit,
+              const char* doc) override {
+    Add(key, FieldInfo::Type::kPoints, min, max, unit, doc, FormatPoints(value));
+  }
 
  private:
   void Add(const char* key, FieldInfo::Type type, double min, double max, const char* unit,
@@ -66,6 +99,45 @@ std::optional<double> ParseReal(const std::string& text) {
   auto [ptr, ec] = std::from_chars(text.data(), end, v);
   if (ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
   return v;
+}
+
+// splits "[a, b, ...]" into its top-level items; nullopt when the brackets do not balance
+std::optional<std::vector<std::string>> SplitArray(const std::string& text) {
+  std::string t;
+  for (char c : text) {
+    if (c != ' ' && c != '\t') t += c;
+  }
+  if (t.size() < 2 || t.front() != '[' || t.back() != ']') return std::nullopt;
+  std::vector<std::string> items;
+  std::string item;
+  int depth = 0;
+  for (size_t i = 1; i + 1 < t.size(); ++i) {
+    const char c = t[i];
+    if (c == '[') ++depth;
+    if (c == ']' && --depth < 0) return std::nullopt;
+    if (c == ',' && depth == 0) {
+      items.push_back(item);
+      item.clear();
+    } else {
+      item += c;
+    }
+  }
+  if (depth != 0) return std::nullopt;
+  if (!item.empty() || !items.empty()) items.push_back(item);
+  return items;
+}
+
+std::optional<Vec2> ParseVec(const std::string& text) {
+  const auto items = SplitArray(text);
+  if (!items || items->size() != 2) return std::nullopt;
+  const auto x = ParseReal((*items)[0]);
+  const auto y = ParseReal((*items)[1]);
+  if (!x || !y) return std::nullopt;
+  return Vec2(*x, *y);
+}
+
+bool InRange(const Vec2& v, double min, double max) {
+  return v.x() >= min && v.x() <= max && v.y() >= min && v.y() <= max;
 }
 
 std::string Unquote(const std::string& text) {
@@ -140,6 +212,40 @@ class Setter final : public ParamVisitor {
     if (!Match(key)) return;
     value = Unquote(m_text);
   }
+  void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
+              const char*) override {
+    if (!Match(key)) return;
+    const auto v = ParseVec(m_text);
+    if (!v) {
+      problem = "expected [x, y], got '" + m_text + "'";
+    } else if (!InRange(*v, min, max)) {
+      problem = "value " + m_text + " is out of range " + RangeText(min, max) + " " + unit;
+    } else {
+      value = *v;
+    }
+  }
+  void Points(const char* key, std::vector<Vec2>& value, double min, double max, const char* unit,
+              const char*) override {
+    if (!Match(key)) return;
+    const auto items = SplitArray(m_text);
+    std::vector<Vec2> points;
+    for (size_t i = 0; items && i < items->size(); ++i) {
+      const auto v = ParseVec((*items)[i]);
+      if (!v) break;
+      points.push_back(*v);
+    }
+    if (!items || points.size() != items->size()) {
+      problem = "expected [[x, y], ...], got '" + m_text + "'";
+      return;
+    }
+    for (const Vec2& p : points) {
+      if (!InRange(p, min, max)) {
+        problem = "point " + FormatVec(p) + " is out of range " + RangeText(min, max) + " " + unit;
+        return;
+      }
+    }
+    value = std::move(points);
+  }
 
  private:
   bool Match(const char* key) {
@@ -197,6 +303,10 @@ const char* TypeName(FieldInfo::Type type) {
       return "one of the names";
     case FieldInfo::Type::kText:
       return "a string";
+    case FieldInfo::Type::kVector:
+      return "an array [x, y]";
+    case FieldInfo::Type::kPoints:
+      return "an array of points [[x, y], ...]";
   }
   return "a value";
 }

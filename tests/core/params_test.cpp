@@ -1,5 +1,7 @@
 #include "proxygrasp/core/params.h"
 
+#include "proxygrasp/core/units.h"
+
 #include <gtest/gtest.h>
 
 namespace pg {
@@ -84,6 +86,89 @@ TEST(Params, ChangedFieldsAsToml) {
   s.color = Color::kGreen;
   EXPECT_EQ(ChangedFieldsAsToml(SectionOf(s), SectionOf(defaults)),
             "[sample]\nlength = 4\ncolor = \"green\"\n");
+}
+
+// a struct with the geometric field kinds: an angle, a vector and a point list
+struct Shape {
+  double heading = 0.5 * kPi;  // rad
+  Vec2 pos = Vec2(1.0, 2.0);
+  std::vector<Vec2> outline = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)};
+};
+
+void Describe(Shape& s, ParamVisitor& v) {
+  v.Angle("heading", s.heading, -360, 360, "deg", "a heading");
+  v.Vector("pos", s.pos, -10, 10, "cm", "a position");
+  v.Points("outline", s.outline, -5, 5, "cm", "an outline");
+}
+
+ParamSection SectionOf(Shape& s) {
+  return {"shape", [&s](ParamVisitor& v) { Describe(s, v); }};
+}
+
+TEST(Params, ListsAnglesInDegreesAndVectorsAsArrays) {
+  Shape s;
+  const auto fields = ListFields(SectionOf(s));
+  ASSERT_EQ(fields.size(), 3u);
+  EXPECT_EQ(fields[0].type, FieldInfo::Type::kReal);
+  EXPECT_EQ(fields[0].value, "90");
+  EXPECT_EQ(fields[0].unit, "deg");
+  EXPECT_EQ(fields[1].type, FieldInfo::Type::kVector);
+  EXPECT_EQ(fields[1].value, "[1, 2]");
+  EXPECT_EQ(fields[1].min, -10);
+  EXPECT_EQ(fields[2].type, FieldInfo::Type::kPoints);
+  EXPECT_EQ(fields[2].value, "[[0, 0], [1, 0], [0, 1]]");
+}
+
+TEST(Params, SetsAnglesVectorsAndPoints) {
+  Shape s;
+  const ParamSection section = SectionOf(s);
+  EXPECT_FALSE(SetFieldFromText(section, "heading", "-45"));
+  EXPECT_DOUBLE_EQ(s.heading, -0.25 * kPi);
+  EXPECT_FALSE(SetFieldFromText(section, "pos", "[3.5, -4]"));
+  EXPECT_EQ(s.pos, Vec2(3.5, -4));
+  EXPECT_FALSE(SetFieldFromText(section, "outline", "[[0, 0], [2, 0], [2, 2], [0, 2]]"));
+  ASSERT_EQ(s.outline.size(), 4u);
+  EXPECT_EQ(s.outline[2], Vec2(2, 2));
+  EXPECT_FALSE(SetFieldFromText(section, "outline", "[]"));
+  EXPECT_TRUE(s.outline.empty());
+}
+
+TEST(Params, RejectsBadVectorsAndPointsAndKeepsOldOnes) {
+  Shape s;
+  const ParamSection section = SectionOf(s);
+  const Status angle = SetFieldFromText(section, "heading", "400");
+  ASSERT_TRUE(angle);
+  EXPECT_EQ(angle->message, "shape.heading: value 400 is out of range [-360, 360] deg");
+  const Status three = SetFieldFromText(section, "pos", "[1, 2, 3]");
+  ASSERT_TRUE(three);
+  EXPECT_EQ(three->message, "shape.pos: expected [x, y], got '[1, 2, 3]'");
+  const Status far = SetFieldFromText(section, "pos", "[1, 20]");
+  ASSERT_TRUE(far);
+  EXPECT_EQ(far->message, "shape.pos: value [1, 20] is out of range [-10, 10] cm");
+  const Status flat = SetFieldFromText(section, "outline", "[0, 1]");
+  ASSERT_TRUE(flat);
+  EXPECT_EQ(flat->message, "shape.outline: expected [[x, y], ...], got '[0, 1]'");
+  const Status outside = SetFieldFromText(section, "outline", "[[0, 0], [6, 0]]");
+  ASSERT_TRUE(outside);
+  EXPECT_EQ(outside->message, "shape.outline: point [6, 0] is out of range [-5, 5] cm");
+  const Status open = SetFieldFromText(section, "outline", "[[0, 0], [1, 0]");
+  ASSERT_TRUE(open);
+  EXPECT_DOUBLE_EQ(s.heading, 0.5 * kPi);
+  EXPECT_EQ(s.pos, Vec2(1, 2));
+  EXPECT_EQ(s.outline.size(), 3u);
+}
+
+TEST(Params, AngleVisitedButUnchangedKeepsItsExactRadians) {
+  // degrees -> radians -> degrees need not round-trip bit for bit; an unset angle must not drift
+  Shape s;
+  s.heading = 0.1;
+  EXPECT_FALSE(SetFieldFromText(SectionOf(s), "pos", "[0, 0]"));
+  EXPECT_EQ(s.heading, 0.1);
+}
+
+TEST(Params, TypeNamesCoverEveryKind) {
+  EXPECT_STREQ(TypeName(FieldInfo::Type::kVector), "an array [x, y]");
+  EXPECT_STREQ(TypeName(FieldInfo::Type::kPoints), "an array of points [[x, y], ...]");
 }
 
 }  // namespace

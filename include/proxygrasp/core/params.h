@@ -5,6 +5,7 @@
 #pragma once
 
 #include "proxygrasp/core/error.h"
+#include "proxygrasp/core/geometry.h"
 
 #include <functional>
 #include <span>
@@ -31,6 +32,17 @@ class ParamVisitor {
                       const char* doc) = 0;
   /// Free text (a file path, say).
   virtual void Text(const char* key, std::string& value, const char* doc) = 0;
+  /// An angle held in radians and written in degrees, in [minDeg, maxDeg]; unit is "deg" or
+  /// "deg/s". By default it is visited as a Real in degrees, so visitors that only know Real see
+  /// and set degrees.
+  virtual void Angle(const char* key, double& radians, double minDeg, double maxDeg,
+                     const char* unit, const char* doc);
+  /// A 2D vector written [x, y], each component in [min, max]. Skipped by default.
+  virtual void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
+                      const char* doc);
+  /// A list of 2D points written [[x, y], ...], each coordinate in [min, max]. Skipped by default.
+  virtual void Points(const char* key, std::vector<Vec2>& value, double min, double max,
+                      const char* unit, const char* doc);
 };
 
 /// Visits an enum field as a Choice; E's values must be 0..names.size()-1 in order.
@@ -50,7 +62,7 @@ struct ParamSection {
 
 /// What one field is, for listings, docs and validation.
 struct FieldInfo {
-  enum class Type { kReal, kInteger, kBoolean, kChoice, kText };
+  enum class Type { kReal, kInteger, kBoolean, kChoice, kText, kVector, kPoints };
   std::string key;
   Type type = Type::kReal;
   double min = 0.0;
@@ -64,8 +76,9 @@ struct FieldInfo {
 /// Lists a section's fields with their current values.
 std::vector<FieldInfo> ListFields(const ParamSection& section);
 
-/// Sets a field from text ("0.3", "true", "raycast", "\"path\"" or path). Unknown keys get a
-/// "did you mean" hint; values out of range name the allowed range. Nothing changes on error.
+/// Sets a field from text ("0.3", "true", "raycast", "\"path\"" or path, "[1, 2]", "[[0, 0], [1,
+/// 0]]"). Unknown keys get a "did you mean" hint; values out of range name the allowed range.
+/// Nothing changes on error.
 Status SetFieldFromText(const ParamSection& section, const std::string& key,
                         const std::string& text);
 

@@ -1,0 +1,159 @@
+// A level as loaded from its TOML file: parameters, objects, a script of contacts, expectations the
+// headless runner checks, goals for play, and named parameter variants. docs/levels.md is the
+// reference of the file format. Loading parses, validates and builds; on any error it returns the
+// Error (file:line:col: message) and no Level, so nothing is ever half-loaded.
+#pragma once
+
+#include "proxygrasp/core/error.h"
+#include "proxygrasp/core/geometry.h"
+#include "proxygrasp/core/params.h"
+#include "proxygrasp/core/units.h"
+#include "proxygrasp/level/params.h"
+#include "proxygrasp/level/script.h"
+#include "proxygrasp/physics/types.h"
+#include "proxygrasp/proxies/types.h"
+
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pg {
+
+/// A region of the table: an axis-aligned rectangle or a circle, cm.
+struct Region {
+  enum class Kind { kRect, kCircle };
+  Kind kind = Kind::kRect;
+  Vec2 min = Vec2::Zero();     ///< rectangle corner with the smallest x and y, cm
+  Vec2 max = Vec2::Zero();     ///< rectangle corner with the largest x and y, cm
+  Vec2 center = Vec2::Zero();  ///< circle centre, cm
+  double radius = 0.0;         ///< circle radius, cm
+
+  /// True when p (cm) lies inside or on the boundary.
+  bool Contains(const Vec2& p) const;
+};
+
+/// What an expectation checks.
+enum class ExpectKind {
+  kPosition,      ///< the object's position lies inside a region
+  kRotation,      ///< the object's total signed rotation since the start lies in a range
+  kDisplacement,  ///< the distance the object moved from its start is above and/or below a value
+  kHeld,          ///< the object is (or is not) held by the contacts
+  kResting,       ///< a fraction of a contact's particles rest on an object's top or the table
+};
+inline constexpr const char* kExpectKindNames[] = {"position", "rotation", "displacement", "held",
+                                                   "resting"};
+
+/// Default fraction of a contact's particles that must rest where a "resting" expectation says.
+inline constexpr double kDefaultRestingFraction = 0.8;
+
+/// A condition the headless runner checks at a time or at the end of a run. Angles in radians.
+struct Expectation {
+  ExpectKind kind = ExpectKind::kPosition;
+  std::string object;   ///< position, rotation, displacement, held: the object's name
+  std::string contact;  ///< resting: the script contact's name
+  std::string on;       ///< resting: an object's name, or "table"
+  Region region;        ///< position
+  double minAngle = -std::numeric_limits<double>::infinity();  ///< rotation, rad
+  double maxAngle = std::numeric_limits<double>::infinity();   ///< rotation, rad
+  double above = -std::numeric_limits<double>::infinity();     ///< displacement lower bound, cm
+  double below = std::numeric_limits<double>::infinity();      ///< displacement upper bound, cm
+  bool held = true;                                            ///< held: the state expected
+  double fraction = kDefaultRestingFraction;  ///< resting: fraction of particles, 0..1
+  std::optional<double> at;                   ///< s; nullopt checks at the end of the run
+  std::optional<ProxyMode> mode;              ///< only in runs of this proxy mode
+  std::string variant;                        ///< only in runs of this variant; "" the base level
+  std::string label;                          ///< free text for reports
+  SourceLoc loc;
+
+  /// True when the resting expectation asks for the table rather than an object.
+  bool OnTable() const { return on == "table"; }
+};
+
+/// A target drawn on the table for play: a zone for an object and/or an angle to turn it to.
+struct Goal {
+  std::string object;                   ///< the object's name
+  std::optional<Region> zone;           ///< where the object's position must be
+  std::optional<double> angle;          ///< absolute object angle, rad
+  double tolerance = 10.0 * kPi / 180;  ///< allowed angle error, rad
+  std::string label;                    ///< text drawn beside the goal
+  SourceLoc loc;
+
+  /// True when an object at pose (cm, rad) is in the zone and within tolerance of the angle,
+  /// comparing angles modulo a full turn.
+  bool IsMet(const Pose2& pose) const;
+};
+
+/// A named set of parameter overrides on top of the level's own; expectations may name it.
+struct Variant {
+  std::string name;
+  LevelParams params;  ///< the level's parameters with the variant's overrides applied
+  SourceLoc loc;
+};
+
+/// A loaded, validated level.
+struct Level {
+  std::string path;         ///< the file it was loaded from
+  std::string name;         ///< `name`, or the file's stem
+  std::string description;  ///< `description`, or ""
+  LevelParams params;
+  std::vector<ObjectSpec> objects;
+  Script script;
+  std::vector<Expectation> expectations;
+  std::vector<Goal> goals;
+  std::vector<Variant> variants;
+  std::vector<std::string> files;  ///< the level file and every file it includes
+
+  /// The object with this name, or nullptr.
+  const ObjectSpec* FindObject(std::string_view objectName) const;
+  /// The variant with this name, or nullptr.
+  const Variant* FindVariant(std::string_view variantName) const;
+};
+
+/// A one-line description of what e checks, for reports: "box held at 2 s (instant)".
+std::string ExpectationText(const Expectation& e);
+
+/// Sets "section.key" from text in the level's parameters and in every variant's, as the runner's
+/// `--set` does: the command line wins over the file, variants included. Nothing changes on error.
+Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text);
+
+/// Reads, validates and builds the level in the file at path.
+Result<Level> LoadLevel(const std::string& path);
+
+/// The same from text; path names the text in messages and anchors relative includes.
+Result<Level> ParseLevel(std::string_view text, const std::string& path);
+
+/// One run of a level: its base parameters or a variant's, in one proxy mode.
+struct LevelRun {
+  std::string variant;  ///< "" the base level
+  ProxyMode mode = ProxyMode::kPersistent;
+  bool forcedMode = false;  ///< the mode was forced (the runner's --mode) for every run
+};
+
+/// The runs a level's expectations need: the base level in its own mode first, then every other
+/// (variant, mode) pair some expectation names, in order of first mention. With forcedMode (the
+/// runner's --mode) every run uses that mode and expectations naming another mode are left out.
+std::vector<LevelRun> LevelRuns(const Level& level,
+                                std::optional<ProxyMode> forcedMode = std::nullopt);
+
+/// The parameters of a run: the variant's (or the level's) with proxies.mode set to run.mode.
+LevelParams RunParams(const Level& level, const LevelRun& run);
+
+/// True when expectation e is checked in run: same variant, and the run's mode is the one e names;
+/// an expectation naming no mode is checked in its variant's own mode, or in a forced mode.
+bool AppliesTo(const Expectation& e, const LevelRun& run, const Level& level);
+
+/// Describes every ObjectSpec key of an [[objects]] entry (angles in degrees).
+void DescribeObject(ObjectSpec& o, ParamVisitor& v);
+
+/// Describes the size keys of a [[script.contacts]] entry (shape, radius, ..., pressure).
+void DescribeContactShape(ContactShape& c, ParamVisitor& v);
+
+/// True when an [[objects]] key is meaningful for the shape (size_x applies to boxes only, ...).
+bool ObjectKeyApplies(ObjectShape shape, std::string_view key);
+
+/// True when a contact size key is meaningful for the shape (radius_x applies to ellipses, ...).
+bool ContactKeyApplies(ShapeKind shape, std::string_view key);
+
+}  // namespace pg

@@ -1,0 +1,81 @@
+// The keys of [[objects]] and [[script.contacts]] entries, described through the same reflection as
+// the parameter tables, so the loader's checks and docs/levels.md come from one place.
+#include "proxygrasp/level/level.h"
+
+#include <algorithm>
+#include <initializer_list>
+
+namespace pg {
+
+namespace {
+
+bool OneOf(ObjectShape s, std::initializer_list<ObjectShape> shapes) {
+  return std::find(shapes.begin(), shapes.end(), s) != shapes.end();
+}
+
+bool OneOf(ShapeKind s, std::initializer_list<ShapeKind> shapes) {
+  return std::find(shapes.begin(), shapes.end(), s) != shapes.end();
+}
+
+}  // namespace
+
+void DescribeObject(ObjectSpec& o, ParamVisitor& v) {
+  v.Text("name", o.name, "unique name, used by expectations and goals (required)");
+  VisitEnum(v, "shape", o.shape, kObjectShapeNames, "the solid (required)");
+  v.Real("size_x", o.sizeX, 0.1, 200, "cm", "box: width along local x");
+  v.Real("size_y", o.sizeY, 0.1, 200, "cm", "box: depth along local y");
+  v.Real("radius", o.radius, 0.1, 100, "cm", "cylinder, sphere: radius; frustum: bottom radius");
+  v.Real("top_radius", o.topRadius, 0, 100, "cm", "frustum: top radius (0 makes a cone)");
+  v.Real("height", o.height, 0.1, 100, "cm", "box, cylinder, frustum, prisms: height");
+  v.Points("points", o.points, -100, 100, "cm",
+           "prisms: outline in the local frame, any winding (required for prisms)");
+  v.Real("mass", o.mass, 0, 1e6, "g", "mass; 0 computes it from the density");
+  v.Real("density", o.density, 0.001, 100, "g/cm^3", "density, used when mass is 0");
+  v.Real("particle_friction", o.particleFriction, -1, 10, "1",
+         "friction against particles; < 0 uses [physics] particle_friction");
+  v.Real("table_static", o.tableStatic, 0, 10, "1", "static friction against the table");
+  v.Real("table_kinetic", o.tableKinetic, 0, 10, "1",
+         "kinetic friction against the table, at most table_static");
+  v.Real("object_friction", o.objectFriction, 0, 10, "1", "friction against objects and walls");
+  v.Real("restitution", o.restitution, 0, 1, "1", "bounciness");
+  v.Vector("pos", o.pose.pos, -1000, 1000, "cm",
+           "starting position on the table (required; the footprint must lie on the table)");
+  v.Angle("angle", o.pose.angle, -360, 360, "deg", "starting angle, counter-clockwise");
+  v.Vector("velocity", o.velocity, -10000, 10000, "cm/s", "starting velocity");
+  v.Angle("angular_velocity", o.angularVelocity, -36000, 36000, "deg/s",
+          "starting angular velocity, counter-clockwise");
+}
+
+void DescribeContactShape(ContactShape& c, ParamVisitor& v) {
+  VisitEnum(v, "shape", c.kind, kShapeKindNames, "the shape the table camera sees (required)");
+  v.Real("radius", c.radius, 0.05, 20, "cm", "circle, capsule: radius");
+  v.Real("radius_x", c.radiusX, 0.05, 50, "cm", "ellipse: semi-axis along local x");
+  v.Real("radius_y", c.radiusY, 0.05, 50, "cm", "ellipse: semi-axis along local y");
+  v.Real("length", c.length, 0, 100, "cm", "capsule: length between the cap centres, along x");
+  v.Real("scale", c.scale, 0.1, 5, "1", "hands: size; 1 is an adult hand about 19 cm long");
+  v.Points("points", c.points, -100, 100, "cm",
+           "convex, concave: outline in the local frame, any winding (required)");
+  v.Real("pressure", c.pressure, 0, 1, "1", "brightness of the contact, fraction of full contact");
+}
+
+bool ObjectKeyApplies(ObjectShape shape, std::string_view key) {
+  using S = ObjectShape;
+  if (key == "size_x" || key == "size_y") return shape == S::kBox;
+  if (key == "radius") return OneOf(shape, {S::kCylinder, S::kSphere, S::kFrustum});
+  if (key == "top_radius") return shape == S::kFrustum;
+  if (key == "height") return shape != S::kSphere;
+  if (key == "points") return OneOf(shape, {S::kConvexPrism, S::kConcavePrism});
+  return true;
+}
+
+bool ContactKeyApplies(ShapeKind shape, std::string_view key) {
+  using S = ShapeKind;
+  if (key == "radius") return OneOf(shape, {S::kCircle, S::kCapsule});
+  if (key == "radius_x" || key == "radius_y") return shape == S::kEllipse;
+  if (key == "length") return shape == S::kCapsule;
+  if (key == "scale") return OneOf(shape, {S::kHandFive, S::kHandFlat, S::kHandCupped});
+  if (key == "points") return OneOf(shape, {S::kConvexPolygon, S::kConcavePolygon});
+  return true;
+}
+
+}  // namespace pg
