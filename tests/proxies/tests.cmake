@@ -1,0 +1,2 @@
+proxygrasp_test(proxies matching)
+proxygrasp_test(proxies proxy_stage)
