@@ -98,15 +98,15 @@ std::vector<Vec2> ImageMotion(const TableImage& previous, const TableImage& curr
   // track each point from the current image back into the previous one
   std::vector<cv::Point2f> from(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
-    from[i] = cv::Point2f(static_cast<float>(points[i].pixel.x),
-                          static_cast<float>(points[i].pixel.y));
+    from[i] =
+        cv::Point2f(static_cast<float>(points[i].pixel.x), static_cast<float>(points[i].pixel.y));
   }
   std::vector<cv::Point2f> back;
   std::vector<unsigned char> status;
   std::vector<float> error;
   const int w = std::max(window, 5);
-  cv::calcOpticalFlowPyrLK(current.image, previous.image, from, back, status, error,
-                           cv::Size(w, w), kFlowLevels);
+  cv::calcOpticalFlowPyrLK(current.image, previous.image, from, back, status, error, cv::Size(w, w),
+                           kFlowLevels);
   // the motion into this frame is the reverse of that track, in table cm
   for (size_t i = 0; i < points.size(); ++i) {
     if (!status[i] || !std::isfinite(back[i].x) || !std::isfinite(back[i].y)) continue;

@@ -206,7 +206,8 @@ std::vector<int64_t> NearestSquared(const Fixed& p, const Fixed& c) {
         for (int cx = qx - r; cx <= qx + r; cx += std::max(step, 1)) {
           if (cx < 0 || cx >= nx) continue;
           const size_t id = static_cast<size_t>(cy) * nx + cx;
-          for (int t = start[id]; t < start[id + 1]; ++t) best = std::min(best, Dist2(p, k, c, items[t]));
+          for (int t = start[id]; t < start[id + 1]; ++t)
+            best = std::min(best, Dist2(p, k, c, items[t]));
         }
       }
       // every cell further out lies at least r cells away

@@ -63,8 +63,7 @@ void Count(ParticlePlan& plan) {
 }  // namespace
 
 ParticlePlan ProxyStage::Update(const ProxyParams& params, const ContactSet& contacts,
-                                const SceneQuery& scene,
-                                std::span<const ParticleFeedback> feedback,
+                                const SceneQuery& scene, std::span<const ParticleFeedback> feedback,
                                 const TableImage* image) {
   ParticlePlan plan;
   plan.frame = contacts.frame;

@@ -4,12 +4,12 @@
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/proxies/types.h"
 
-#include "proxies/test_shapes.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+
+#include "proxies/test_shapes.h"
 
 namespace pg {
 namespace {

@@ -3,13 +3,13 @@
 #include "proxygrasp/core/rng.h"
 #include "proxygrasp/core/units.h"
 
-#include "proxies/test_scene.h"
-#include "proxies/test_shapes.h"
-
 #include <gtest/gtest.h>
 
 #include <map>
 #include <set>
+
+#include "proxies/test_scene.h"
+#include "proxies/test_shapes.h"
 
 namespace pg {
 namespace {
@@ -169,8 +169,7 @@ TEST(ProxyStage, RotatingElongatedContactMapsItsPoints) {
     pose.angle += DegToRad(4);
     std::map<ParticleId, Vec2> old;
     for (const auto& [id, f] : h.physics) old[id] = f.pos;
-    set = MakeSet(frame,
-                  {MakeContact(2, ContactState::kContinuing, Sensed(Moved(outline, pose)))});
+    set = MakeSet(frame, {MakeContact(2, ContactState::kContinuing, Sensed(Moved(outline, pose)))});
     const ParticlePlan plan = h.Step(set);
     int reused = 0;
     for (const PlannedParticle& p : plan.particles) {
@@ -220,7 +219,8 @@ TEST(ProxyStage, GrowingContactCreatesAtNeighboursPositionAndHeight) {
     }
   }
   // at least one particle per point the contour gained: 2 pi (1.6 - 1.0) cm / 0.3 cm, ~13
-  const int gained = static_cast<int>(Sensed(CircleOutline(1.6)).cols() - Sensed(CircleOutline(1.0)).cols());
+  const int gained =
+      static_cast<int>(Sensed(CircleOutline(1.6)).cols() - Sensed(CircleOutline(1.0)).cols());
   EXPECT_GE(createdTotal, gained);
 }
 
@@ -245,7 +245,8 @@ TEST(ProxyStage, LiftedAndVanishedContactsDeleteAll) {
   Harness h;
   const Contour a = Sensed(Moved(CircleOutline(0.8), {Vec2(10, 10)}));
   const Contour b = Sensed(Moved(CircleOutline(0.8), {Vec2(20, 10)}));
-  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, a), MakeContact(2, ContactState::kNew, b)}));
+  h.Step(
+      MakeSet(0, {MakeContact(1, ContactState::kNew, a), MakeContact(2, ContactState::kNew, b)}));
   // 1 is lifted (it carries its last blob); 2 simply goes missing from the set
   const ParticlePlan plan = h.Step(MakeSet(1, {MakeContact(1, ContactState::kLifted, a)}));
   EXPECT_EQ(plan.deleted, a.cols() + b.cols());
@@ -330,9 +331,9 @@ TEST(ProxyStage, MergesSplitsAndBadInputKeepIdsUnique) {
     if (blobs.size() < 5 && rng.Uniform() < 0.3) {
       const ContactId id = nextId++;
       blobs[id] = {Vec2(rng.Uniform(5, 55), rng.Uniform(5, 40)), rng.Uniform(0.5, 2.0)};
-      contacts.push_back(MakeContact(
-          id, ContactState::kNew,
-          Sensed(Moved(CircleOutline(blobs[id].second), {blobs[id].first}))));
+      contacts.push_back(
+          MakeContact(id, ContactState::kNew,
+                      Sensed(Moved(CircleOutline(blobs[id].second), {blobs[id].first}))));
     }
     h.Step(MakeSet(frame, contacts));
     if (::testing::Test::HasFailure()) break;
@@ -346,14 +347,14 @@ TEST(ProxyStage, NewContactOverAnObjectRestsOnItsTop) {
   const Contour inside = Sensed(Moved(CircleOutline(0.8), {Vec2(25, 25)}));
   const Contour edge = Sensed(Moved(CircleOutline(0.8), {Vec2(20, 25)}));
   const Contour off = Sensed(Moved(CircleOutline(0.8), {Vec2(10, 10)}));
-  const ParticlePlan plan = h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, inside),
-                                               MakeContact(2, ContactState::kNew, edge),
-                                               MakeContact(3, ContactState::kNew, off)}));
+  const ParticlePlan plan = h.Step(MakeSet(
+      0, {MakeContact(1, ContactState::kNew, inside), MakeContact(2, ContactState::kNew, edge),
+          MakeContact(3, ContactState::kNew, off)}));
   for (const PlannedParticle& p : plan.particles) {
     // raycast: the highest surface under each point
-    const double expected = p.contact == 3 ? 0.0 : BoxScene::Inside(h.scene.boxes[0], p.target)
-                                                       ? 5.0
-                                                       : 0.0;
+    const double expected = p.contact == 3                                 ? 0.0
+                            : BoxScene::Inside(h.scene.boxes[0], p.target) ? 5.0
+                                                                           : 0.0;
     EXPECT_EQ(p.baseHeight, expected) << "contact " << p.contact << " point " << p.index;
     if (p.contact == 1) {
       EXPECT_EQ(p.baseHeight, 5.0);
@@ -367,8 +368,7 @@ TEST(ProxyStage, CreatedParticleKeepsNeighbourHeightOverAnObject) {
   Harness h;
   h.scene.boxes = {{Vec2(20, 15), Vec2(30, 25), 5.0}};
   Vec2 at(18.5, 20);
-  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew,
-                                 Sensed(Moved(CircleOutline(1.0), {at})))}));
+  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, Sensed(Moved(CircleOutline(1.0), {at})))}));
   int createdInside = 0;
   for (int frame = 1; frame <= 10; ++frame) {
     at.x() += 0.12;
@@ -395,8 +395,8 @@ TEST(ProxyStage, GroundModePlacesOutsideFootprintsUnlessTooDeep) {
   const Contour shallow = Sensed(Moved(CircleOutline(0.8), {Vec2(20.2, 25)}));
   // deepest point 2.0 + 1.6 cm inside: too deep to be beside the box, goes on its top
   const Contour deep = Sensed(Moved(CircleOutline(0.8), {Vec2(22.8, 25)}));
-  const ParticlePlan plan = h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, shallow),
-                                               MakeContact(2, ContactState::kNew, deep)}));
+  const ParticlePlan plan = h.Step(MakeSet(
+      0, {MakeContact(1, ContactState::kNew, shallow), MakeContact(2, ContactState::kNew, deep)}));
   for (const PlannedParticle& p : plan.particles) {
     if (p.contact == 1) {
       EXPECT_EQ(p.baseHeight, 0.0);
@@ -409,9 +409,11 @@ TEST(ProxyStage, GroundModePlacesOutsideFootprintsUnlessTooDeep) {
   }
   // the shallow contact presses further in and grows: new particles stay outside, on the table
   for (int frame = 1; frame <= 5; ++frame) {
-    const Contour cur = Sensed(Moved(CircleOutline(0.8 + 0.1 * frame), {Vec2(20.2 + 0.1 * frame, 25)}));
-    const ParticlePlan next = h.Step(MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur),
-                                                     MakeContact(2, ContactState::kContinuing, deep)}));
+    const Contour cur =
+        Sensed(Moved(CircleOutline(0.8 + 0.1 * frame), {Vec2(20.2 + 0.1 * frame, 25)}));
+    const ParticlePlan next =
+        h.Step(MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur),
+                               MakeContact(2, ContactState::kContinuing, deep)}));
     for (const PlannedParticle& p : next.particles) {
       if (p.contact != 1 || p.action != ParticleAction::kCreated) continue;
       EXPECT_EQ(p.baseHeight, 0.0);

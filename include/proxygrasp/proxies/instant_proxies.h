@@ -18,9 +18,9 @@ namespace pg {
 
 /// One edge pixel chosen for a particle.
 struct EdgePixel {
-  cv::Point pixel;        ///< pixel (u, v) of the table image
-  Vec2 pos;               ///< its centre on the table, cm
-  double magnitude = 0.0; ///< Sobel gradient magnitude, grey levels per pixel
+  cv::Point pixel;         ///< pixel (u, v) of the table image
+  Vec2 pos;                ///< its centre on the table, cm
+  double magnitude = 0.0;  ///< Sobel gradient magnitude, grey levels per pixel
 };
 
 /// The pixels of a table image whose Sobel gradient magnitude (the 3x3 Sobel scaled by 1/8, so a

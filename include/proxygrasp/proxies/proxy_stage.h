@@ -19,12 +19,12 @@ namespace pg {
 
 /// Counts of unusual input the stage survived, since the last Reset().
 struct ProxyStageStats {
-  int duplicateContacts = 0;   ///< contacts whose id appeared twice in one set (later ones skipped)
-  int unknownContinuing = 0;   ///< continuing contacts with no state, seeded as new
-  int restartedNew = 0;        ///< new contacts whose id already had state (old particles deleted)
-  int vanishedContacts = 0;    ///< contacts with state missing from the set (particles deleted)
-  int windowedFallbacks = 0;   ///< points the windowed search handed to the full search
-  int missingImage = 0;        ///< instant-mode frames without a table image (no particles)
+  int duplicateContacts = 0;  ///< contacts whose id appeared twice in one set (later ones skipped)
+  int unknownContinuing = 0;  ///< continuing contacts with no state, seeded as new
+  int restartedNew = 0;       ///< new contacts whose id already had state (old particles deleted)
+  int vanishedContacts = 0;   ///< contacts with state missing from the set (particles deleted)
+  int windowedFallbacks = 0;  ///< points the windowed search handed to the full search
+  int missingImage = 0;       ///< instant-mode frames without a table image (no particles)
 };
 
 /// The proxies stage and its state across frames.
@@ -47,9 +47,9 @@ class ProxyStage {
  private:
   // what the stage remembers of a contact between frames
   struct Track {
-    Contour contour;                   // last contour, cm
-    std::vector<ParticleId> ids;       // particle of each contour point
-    std::vector<double> baseHeights;   // last known base height of each point's particle, cm
+    Contour contour;                  // last contour, cm
+    std::vector<ParticleId> ids;      // particle of each contour point
+    std::vector<double> baseHeights;  // last known base height of each point's particle, cm
   };
 
   void Persistent(const ProxyParams& params, const ContactSet& contacts, const SceneQuery& scene,
