@@ -7,11 +7,11 @@
 #include "proxygrasp/proxies/matching.h"
 #include "proxygrasp/proxies/proxy_stage.h"
 
-#include "proxies/test_shapes.h"
-
 #include <benchmark/benchmark.h>
 
 #include <vector>
+
+#include "proxies/test_shapes.h"
 
 namespace pg {
 namespace {
@@ -79,8 +79,8 @@ void RunPairs(benchmark::State& state, const std::vector<Frame>& frames, MatchFn
     }
     f = (f + 1) % kFrames;
   }
-  state.counters["points"] = static_cast<double>(frames[0].hands[0].cols() +
-                                                 frames[0].hands[1].cols());
+  state.counters["points"] =
+      static_cast<double>(frames[0].hands[0].cols() + frames[0].hands[1].cols());
   state.counters["fallback_fraction"] = points > 0 ? static_cast<double>(fallbacks) / points : 0;
 }
 
@@ -97,7 +97,8 @@ void BM_MatchFast(benchmark::State& state) {
 // the prediction is part of the windowed search's cost
 void BM_MatchWindowed(benchmark::State& state) {
   RunPairs(state, Everyday(), [](const Contour& a, const Contour& b) {
-    return MatchWindowed(a, b, kWindow, PredictSuccessors(a, b), kRadius, ProxyParams{}.fallbackScore);
+    return MatchWindowed(a, b, kWindow, PredictSuccessors(a, b), kRadius,
+                         ProxyParams{}.fallbackScore);
   });
 }
 
@@ -113,7 +114,8 @@ void BM_MatchFastExtreme(benchmark::State& state) {
 
 void BM_MatchWindowedExtreme(benchmark::State& state) {
   RunPairs(state, Extreme(), [](const Contour& a, const Contour& b) {
-    return MatchWindowed(a, b, kWindow, PredictSuccessors(a, b), kRadius, ProxyParams{}.fallbackScore);
+    return MatchWindowed(a, b, kWindow, PredictSuccessors(a, b), kRadius,
+                         ProxyParams{}.fallbackScore);
   });
 }
 
