@@ -55,6 +55,13 @@ inline int64_t Dist2(const Fixed& a, int i, const Fixed& b, int j) {
   return dx * dx + dy * dy;
 }
 
+// i wrapped into [0, m), cheap when i is at most one lap out
+inline int WrapNear(int i, int m) {
+  if (i >= m) i -= m;
+  if (i < 0) i += m;
+  return i >= 0 && i < m ? i : WrapIndex(i, m);
+}
+
 double ToCm2(int64_t s) {
   return static_cast<double>(s) * (kMatchQuantum * kMatchQuantum);
 }
@@ -321,10 +328,10 @@ MatchResult MatchWindowed(const Contour& prev, const Contour& cur, int window,
     for (int k = k0; k < k1; ++k) {
       // slide each band diagonal one step: the term k-1-half leaves, k+half enters
       if (k > k0) {
-        const int aOut = WrapIndex(k - 1 - half, n);
-        const int aIn = WrapIndex(k + half, n);
-        int bOut = WrapIndex(k - 1 - half + diag - radius, m);
-        int bIn = WrapIndex(k + half + diag - radius, m);
+        const int aOut = WrapNear(k - 1 - half, n);
+        const int aIn = WrapNear(k + half, n);
+        int bOut = WrapNear(k - 1 - half + diag - radius, m);
+        int bIn = WrapNear(k + half + diag - radius, m);
         for (int t = 0; t < width; ++t) {
           sums[t] += Dist2(p, aIn, c, bIn) - Dist2(p, aOut, c, bOut);
           if (++bOut == m) bOut = 0;
@@ -332,7 +339,7 @@ MatchResult MatchWindowed(const Contour& prev, const Contour& cur, int window,
         }
       }
       // the best in the band, ties to the lowest j as in the full search
-      const int jFirst = WrapIndex(k + diag - radius, m);
+      const int jFirst = WrapNear(k + diag - radius, m);
       int bestT = 0;
       int bestJ = jFirst;
       for (int t = 1; t < width; ++t) {
@@ -431,33 +438,39 @@ std::vector<int> PredictSuccessors(const Contour& prev, const Contour& cur) {
     }
     predicted[0] = best;
   }
-  // the others by descent from where the last one landed, stepped by the length ratio
-  double position = predicted[0];
+  // the others by descent from where the last one landed, advanced by the length ratio M/N
   const double step = static_cast<double>(m) / n;
+  double carry = 0.0;
+  int last = predicted[0];
   for (int k = 1; k < n; ++k) {
-    position += step;
+    carry += step;
+    const int advance = static_cast<int>(carry);
+    carry -= advance;
     const Vec2 q = moved(k);
-    int best = WrapIndex(static_cast<int>(std::lround(position)), m);
+    const int start = WrapNear(last + advance, m);
+    int best = start;
+    double bestD = dist2(q, best);
     for (int t = -kDescentReach; t <= kDescentReach; ++t) {
-      const int j = WrapIndex(static_cast<int>(std::lround(position)) + t, m);
-      if (dist2(q, j) < dist2(q, best)) best = j;
+      const int j = WrapNear(start + t, m);
+      const double d = dist2(q, j);
+      if (d < bestD) {
+        best = j;
+        bestD = d;
+      }
     }
     for (bool moving = true; moving;) {
       moving = false;
-      for (const int j : {WrapIndex(best - 1, m), WrapIndex(best + 1, m)}) {
-        if (dist2(q, j) < dist2(q, best)) {
+      for (const int j : {WrapNear(best - 1, m), WrapNear(best + 1, m)}) {
+        const double d = dist2(q, j);
+        if (d < bestD) {
           best = j;
+          bestD = d;
           moving = true;
         }
       }
     }
     predicted[k] = best;
-    // keep the running position on the same lap as the answer
-    const double lap = std::floor(position / m) * m;
-    double unwrapped = lap + best;
-    if (unwrapped - position > m / 2.0) unwrapped -= m;
-    if (position - unwrapped > m / 2.0) unwrapped += m;
-    position = unwrapped;
+    last = best;
   }
   return predicted;
 }

@@ -2,15 +2,14 @@
 
 #include "proxygrasp/proxies/proxy_stage.h"
 
-#include "proxies/test_scene.h"
-#include "proxies/test_shapes.h"
-
-#include <opencv2/imgproc.hpp>
-
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <set>
+
+#include "proxies/test_scene.h"
+#include "proxies/test_shapes.h"
 
 namespace pg {
 namespace {
@@ -46,7 +45,8 @@ TEST(InstantProxies, SobelMagnitudeIsGreyLevelsPerPixel) {
   TableImage t;
   t.image = cv::Mat(40, 60, CV_8UC1);
   for (int v = 0; v < 40; ++v) {
-    for (int u = 0; u < 60; ++u) t.image.at<unsigned char>(v, u) = static_cast<unsigned char>(2 * u);
+    for (int u = 0; u < 60; ++u)
+      t.image.at<unsigned char>(v, u) = static_cast<unsigned char>(2 * u);
   }
   t.cmPerPixel = kCmPerPixel;
   // the border columns mirror the image, so their gradient is zero: interior cells only
