@@ -173,5 +173,27 @@ TEST(InstantProxies, ParticlesOverAnObjectLandOnItsTopEveryFrame) {
   EXPECT_EQ(onTopPersistent, 0);
 }
 
+TEST(InstantProxies, GroundModeStartsOutsideEveryFootprint) {
+  BoxScene scene;
+  scene.boxes = {{Table(140, 90), Table(200, 150), 4.0}};
+  ProxyParams params;
+  params.mode = ProxyMode::kInstant;
+  params.placement = Placement::kGround;
+  ProxyStage stage;
+  const std::vector<std::pair<cv::Point, int>> discs = {{cv::Point(150, 100), 20}};
+  const TableImage image = Discs(discs);
+  const ParticlePlan plan = stage.Update(params, DiscContacts(0, discs), scene, {}, &image);
+  for (const PlannedParticle& p : plan.particles) {
+    EXPECT_EQ(p.baseHeight, 0.0);
+    EXPECT_FALSE(BoxScene::Inside(scene.boxes[0], p.start));
+  }
+  // a quarter of the disc's edge lies over the box: those particles were moved out of it
+  int inside = 0;
+  for (const EdgePixel& e : EdgePixels(image, params.instantThreshold, params.instantSpacing)) {
+    inside += BoxScene::Inside(scene.boxes[0], e.pos);
+  }
+  EXPECT_GT(inside, 5);
+}
+
 }  // namespace
 }  // namespace pg

@@ -45,6 +45,22 @@ void ExpectSameMatch(const MatchResult& a, const MatchResult& b, const char* wha
   }
 }
 
+TEST(Matching, TestShapesAreSimpleCounterClockwiseContours) {
+  // the analytic stand-ins for sensing's contours: simple polygons, CCW, ~0.3 cm spacing
+  for (const Contour& outline :
+       {HandOutline(), CapsuleOutline(3.0, 0.8), EllipseOutline(2.0, 1.0), CircleOutline(0.8)}) {
+    EXPECT_TRUE(testing::IsSimple(outline));
+    const Contour c = Sensed(Moved(outline, {Vec2(30, 20), 1.0}));
+    EXPECT_TRUE(testing::IsSimple(c));
+    EXPECT_GT(SignedArea(c), 0.0);
+    EXPECT_NEAR(Perimeter(c) / c.cols(), kSpacing, 0.02);
+  }
+  // a spread hand is about 19 cm long and has about 330 points at 0.3 cm
+  const Contour hand = Sensed(HandOutline());
+  EXPECT_NEAR(hand.row(1).maxCoeff() - hand.row(1).minCoeff(), 18.5, 0.5);
+  EXPECT_NEAR(static_cast<double>(hand.cols()), 330, 20);
+}
+
 TEST(Matching, ReferenceFindsTheShiftedCopy) {
   // cur(j) = prev(j + 3): every previous point k has an exact copy at j = k - 3 (score 0)
   Rng rng(7);

@@ -224,6 +224,51 @@ TEST(ProxyStage, GrowingContactCreatesAtNeighboursPositionAndHeight) {
   EXPECT_GE(createdTotal, gained);
 }
 
+TEST(ProxyStage, WithoutFeedbackCreatedParticlesStartAtTheNeighboursLastTarget) {
+  // no physics feedback at all: a new particle starts at its neighbour's last target and takes
+  // the height the stage recorded for it
+  ProxyStage stage;
+  ProxyParams params;
+  BoxScene scene;
+  scene.boxes = {{Vec2(19, 19), Vec2(21, 21), 3.0}};
+  const Vec2 at(20, 20);
+  ParticlePlan last = stage.Update(
+      params,
+      MakeSet(0, {MakeContact(1, ContactState::kNew, Sensed(Moved(CircleOutline(0.5), {at})))}),
+      scene, {}, nullptr);
+  for (int frame = 1; frame <= 4; ++frame) {
+    std::map<ParticleId, PlannedParticle> before;
+    for (const PlannedParticle& p : last.particles) before[p.id] = p;
+    const Contour cur = Sensed(Moved(CircleOutline(0.5 + 0.25 * frame), {at}));
+    const ParticlePlan plan =
+        stage.Update(params, MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur)}),
+                     scene, {}, nullptr);
+    const int m = static_cast<int>(cur.cols());
+    int created = 0;
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action != ParticleAction::kCreated) continue;
+      ++created;
+      const PlannedParticle* nb = nullptr;
+      for (int d = 1; d <= m / 2 && !nb; ++d) {
+        for (const int j : {WrapIndex(p.index - d, m), WrapIndex(p.index + d, m)}) {
+          const PlannedParticle* q = AtIndex(plan, 1, j);
+          if (q && q->action == ParticleAction::kReused) {
+            nb = q;
+            break;
+          }
+        }
+      }
+      ASSERT_NE(nb, nullptr);
+      EXPECT_NEAR((p.start - before.at(nb->id).target).norm(), 0.0, kExact);
+      // the seed sat wholly on the box (radius 0.5 inside a 2 cm box): height 3 is inherited even
+      // where the grown contour now lies beyond the box
+      EXPECT_EQ(p.baseHeight, 3.0);
+    }
+    EXPECT_GT(created, 0);
+    last = plan;
+  }
+}
+
 TEST(ProxyStage, ShrinkingContactDeletesParticles) {
   Harness h;
   const Vec2 at(30, 20);
