@@ -110,10 +110,16 @@ int ProxyStage::LiveCount() const {
 
 void ProxyStage::Persistent(const ProxyParams& params, const ContactSet& contacts,
                             const SceneQuery& scene, ParticlePlan& plan) {
+  // ids on the table this frame; a lifted entry for one of them is contradictory and ignored
+  std::unordered_set<ContactId> current;
+  for (const Contact& contact : contacts.contacts) {
+    if (contact.state != ContactState::kLifted) current.insert(contact.id);
+  }
   std::unordered_set<ContactId> seen;
   for (const Contact& contact : contacts.contacts) {
-    // one entry per id and frame: a repeated id is bad input, the first entry wins
-    if (!seen.insert(contact.id).second) {
+    // one entry per id and frame: a repeated id is bad input, the first current entry wins
+    const bool lifted = contact.state == ContactState::kLifted;
+    if ((lifted && current.count(contact.id) > 0) || !seen.insert(contact.id).second) {
       ++m_stats.duplicateContacts;
       continue;
     }
@@ -147,7 +153,7 @@ void ProxyStage::Persistent(const ProxyParams& params, const ContactSet& contact
   }
   // contacts that disappeared without being reported lifted are lifted now
   for (auto it = m_tracks.begin(); it != m_tracks.end();) {
-    if (seen.count(it->first) == 0) {
+    if (current.count(it->first) == 0) {
       ++m_stats.vanishedContacts;
       DeleteTrack(it->first, it->second, plan);
       it = m_tracks.erase(it);

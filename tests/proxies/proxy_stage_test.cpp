@@ -88,7 +88,7 @@ struct Harness {
       if (p.action != ParticleAction::kDeleted) ++owners[{p.contact, p.index}];
     }
     for (const Contact& c : set.contacts) {
-      if (!seen.insert(c.id).second || c.state == ContactState::kLifted) continue;
+      if (c.state == ContactState::kLifted || !seen.insert(c.id).second) continue;
       for (int j = 0; j < c.blob.contour.cols(); ++j) {
         EXPECT_EQ((owners[{c.id, j}]), 1) << "contact " << c.id << " point " << j;
       }
@@ -347,7 +347,11 @@ TEST(ProxyStage, MergesSplitsAndBadInputKeepIdsUnique) {
                            MakeContact(7, ContactState::kContinuing, finger(40.2))}));
   h.Step(MakeSet(frame++, {MakeContact(1, ContactState::kContinuing, finger(19.2)),
                            MakeContact(7, ContactState::kContinuing, finger(40.3))}));
-  EXPECT_EQ(h.stage.Stats().duplicateContacts, 1);
+  // a contact reported lifted and continuing in one set: the current entry wins
+  h.Step(MakeSet(frame++, {MakeContact(7, ContactState::kLifted, finger(40.3)),
+                           MakeContact(7, ContactState::kContinuing, finger(40.4)),
+                           MakeContact(1, ContactState::kContinuing, finger(19.2))}));
+  EXPECT_EQ(h.stage.Stats().duplicateContacts, 2);
   EXPECT_EQ(h.stage.Stats().unknownContinuing, 1);
   EXPECT_EQ(h.stage.Stats().restartedNew, 1);
 
