@@ -19,7 +19,7 @@ namespace pg {
 
 /// Counts of unusual input the stage survived, since the last Reset().
 struct ProxyStageStats {
-  int duplicateContacts = 0;  ///< contacts whose id appeared twice in one set (later ones skipped)
+  int duplicateContacts = 0;  ///< repeated ids in one set (the first current entry wins)
   int unknownContinuing = 0;  ///< continuing contacts with no state, seeded as new
   int restartedNew = 0;       ///< new contacts whose id already had state (old particles deleted)
   int vanishedContacts = 0;   ///< contacts with state missing from the set (particles deleted)
