@@ -305,8 +305,9 @@ MatchResult MatchWindowed(const Contour& prev, const Contour& cur, int window,
   // on its nearest current point; a band answer within `margin` of that bound is within `margin`
   // of the full search's answer
   const std::vector<int64_t> bound = WindowBounds(NearestSquared(p, c), half);
+  const double perTerm = std::isfinite(fallbackScore) ? std::clamp(fallbackScore, 0.0, 1e4) : 0.0;
   const auto margin =
-      static_cast<int64_t>(std::llround(fallbackScore / (kMatchQuantum * kMatchQuantum) * terms));
+      static_cast<int64_t>(std::llround(perTerm / (kMatchQuantum * kMatchQuantum) * terms));
   MatchResult r;
   r.successor.resize(n);
   r.score.resize(n);
@@ -349,8 +350,9 @@ MatchResult MatchWindowed(const Contour& prev, const Contour& cur, int window,
           bestJ = j;
         }
       }
-      // the answer is doubtful when the score still falls toward an edge of the band or when
-      // even the best match is poor: the full search answers those points
+      // the answer is doubtful when the score still falls toward an edge of the band, or when
+      // it lies more than the margin above the lower bound (a better answer may lie elsewhere):
+      // the full search answers those points
       const int64_t best = sums[bestT];
       const bool atEdge = sums[0] == best || sums[width - 1] == best;
       if (atEdge || best > bound[k] + margin) fallback.push_back(k);
