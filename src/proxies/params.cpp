@@ -10,15 +10,20 @@ void Describe(ProxyParams& p, ParamVisitor& v) {
   v.Integer("search_radius", p.searchRadius, 1, 512, "points",
             "w, half-width of the windowed search around the predicted offset");
   v.Real("fallback_score", p.fallbackScore, 0, 100, "cm^2",
-         "windowed search falls back to the full search above this best score per point");
+         "windowed search falls back to the full search where its best exceeds a lower bound "
+         "on the exact score by more than this per window term");
   VisitEnum(v, "placement", p.placement, kPlacementNames,
-            "new particles by raycast onto the highest surface, or always on the table");
+            "new contacts by raycast onto the highest surface, or on the table outside every "
+            "footprint (ground)");
   v.Real("penetration_limit", p.penetrationLimit, 0, 100, "cm",
-         "a new contact deeper than this inside an object's footprint is placed on its top");
+         "ground mode: a new contact whose deepest contour point lies deeper than this inside an "
+         "object's footprint is placed by raycast (on the top) instead of on the table");
   v.Real("instant_threshold", p.instantThreshold, 0, 2000, "grey/px",
          "instant mode: Sobel magnitude that makes a particle");
   v.Real("instant_spacing", p.instantSpacing, 0.05, 5, "cm",
          "instant mode: spacing of the subsampled particles");
+  v.Integer("instant_flow_window", p.instantFlowWindow, 5, 101, "px",
+            "instant mode: window of the Lucas-Kanade optical flow that moves each particle");
 }
 
 }  // namespace pg

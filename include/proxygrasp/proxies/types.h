@@ -28,15 +28,18 @@ inline constexpr const char* kPlacementNames[] = {"raycast", "ground"};
 struct ProxyParams {
   ProxyMode mode = ProxyMode::kPersistent;
   MatchAlgorithm algorithm = MatchAlgorithm::kFast;
-  int window = 8;               ///< n, contour points summed around each match (even), points
-  int searchRadius = 12;        ///< w, half-width of the windowed search, points
-  double fallbackScore = 0.25;  ///< windowed search falls back to the full search when its
-                                ///< best score per point exceeds this, cm^2
+  int window = 8;              ///< n, contour points summed around each match (even), points
+  int searchRadius = 12;       ///< w, half-width of the windowed search, points
+  double fallbackScore = 0.5;  ///< windowed search falls back to the full search where its
+                               ///< best exceeds a lower bound on the exact score by more than
+                               ///< this per window term, cm^2
   Placement placement = Placement::kRaycast;
-  double penetrationLimit = 1.5;   ///< a new contact deeper than this inside an object's
-                                   ///< footprint goes on its top, cm
+  double penetrationLimit = 1.5;   ///< ground mode: a new contact whose deepest contour point
+                                   ///< lies deeper than this inside an object's footprint goes
+                                   ///< on its top (by raycast) instead of the table, cm
   double instantThreshold = 40.0;  ///< instant mode: Sobel magnitude that makes a particle, grey/px
   double instantSpacing = 0.3;     ///< instant mode: spacing of the subsampled particles, cm
+  int instantFlowWindow = 21;      ///< instant mode: Lucas-Kanade optical flow window, pixels
 };
 
 /// The scene as the proxies stage sees it (answered by the physics from the previous frame).

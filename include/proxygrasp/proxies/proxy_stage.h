@@ -1,0 +1,76 @@
+// The proxies stage: turns each frame's contact set into a particle plan. In persistent mode
+// (ITS 2009) every contour point of every contact owns one particle that lives as long as the point
+// has a predecessor; in instant mode (UIST 2008) every particle lives one frame.
+#pragma once
+
+#include "proxygrasp/core/ids.h"
+#include "proxygrasp/proxies/instant_proxies.h"
+#include "proxygrasp/proxies/types.h"
+#include "proxygrasp/sensing/types.h"
+#include "proxygrasp/tracking/types.h"
+
+#include <map>
+#include <span>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace pg {
+
+/// Counts of unusual input the stage survived, since the last Reset().
+struct ProxyStageStats {
+  int duplicateContacts = 0;  ///< repeated ids in one set (the first current entry wins)
+  int unknownContinuing = 0;  ///< continuing contacts with no state, seeded as new
+  int restartedNew = 0;       ///< new contacts whose id already had state (old particles deleted)
+  int vanishedContacts = 0;   ///< contacts with state missing from the set (particles deleted)
+  int windowedFallbacks = 0;  ///< points the windowed search handed to the full search
+  int missingImage = 0;       ///< instant-mode frames without a table image (no particles)
+};
+
+/// The proxies stage and its state across frames.
+class ProxyStage {
+ public:
+  /// One frame: the plan for every particle. feedback holds where the physics put the particles
+  /// of the last plan; image is the table image (needed in instant mode, may be null otherwise).
+  ParticlePlan Update(const ProxyParams& params, const ContactSet& contacts,
+                      const SceneQuery& scene, std::span<const ParticleFeedback> feedback,
+                      const TableImage* image);
+
+  /// Forgets every contact and particle (ids keep counting up: they are never reused).
+  void Reset();
+
+  /// Number of particles alive after the last Update.
+  int LiveCount() const;
+  /// Unusual input seen since the last Reset.
+  const ProxyStageStats& Stats() const { return m_stats; }
+
+ private:
+  // what the stage remembers of a contact between frames
+  struct Track {
+    Contour contour;                  // last contour, cm
+    std::vector<ParticleId> ids;      // particle of each contour point
+    std::vector<double> baseHeights;  // last known base height of each point's particle, cm
+  };
+
+  void Persistent(const ProxyParams& params, const ContactSet& contacts, const SceneQuery& scene,
+                  ParticlePlan& plan);
+  void Seed(const ProxyParams& params, const Contact& contact, const SceneQuery& scene,
+            ParticlePlan& plan);
+  void Continue(const ProxyParams& params, const Contact& contact, const SceneQuery& scene,
+                Track& track, ParticlePlan& plan);
+  void DeleteTrack(ContactId id, const Track& track, ParticlePlan& plan);
+
+  std::map<ContactId, Track> m_tracks;  // ordered: plans come out in the same order every run
+  std::unordered_map<ParticleId, ParticleFeedback> m_feedback;  // this frame's feedback by id
+  InstantProxies m_instant;
+  IdCounter m_ids;
+  ProxyMode m_lastMode = ProxyMode::kPersistent;
+  ProxyStageStats m_stats;
+};
+
+/// Checks a plan's invariants: unique ids, counts that match the entries, created ids not alive
+/// before, reused and deleted ids alive before. alive is the set of ids alive before the plan;
+/// returns "" when the plan is sound, otherwise what is wrong.
+std::string CheckPlan(const ParticlePlan& plan, std::span<const ParticleId> aliveBefore);
+
+}  // namespace pg

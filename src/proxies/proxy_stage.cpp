@@ -1,0 +1,335 @@
+#include "proxygrasp/proxies/proxy_stage.h"
+
+#include "proxygrasp/proxies/matching.h"
+
+#include <algorithm>
+#include <cassert>
+#include <set>
+#include <string>
+#include <unordered_set>
+
+namespace pg {
+namespace {
+
+MatchResult Match(const ProxyParams& params, const Contour& prev, const Contour& cur,
+                  int* fallbacks) {
+  const int window = std::clamp(params.window, 0, kMaxMatchWindow);
+  switch (params.algorithm) {
+    case MatchAlgorithm::kReference:
+      return MatchReference(prev, cur, window);
+    case MatchAlgorithm::kWindowed: {
+      const std::vector<int> predicted = PredictSuccessors(prev, cur);
+      MatchResult r =
+          MatchWindowed(prev, cur, window, predicted, params.searchRadius, params.fallbackScore);
+      *fallbacks += r.fallbacks;
+      return r;
+    }
+    case MatchAlgorithm::kFast:
+      break;
+  }
+  return MatchFast(prev, cur, window);
+}
+
+// the contour point nearest j (by index distance, the preceding one first on equal distance)
+// whose predecessor is known; -1 when there is none
+int NearestKept(const std::vector<int>& pred, int j) {
+  const int m = static_cast<int>(pred.size());
+  for (int d = 1; d <= m / 2; ++d) {
+    const int before = WrapIndex(j - d, m);
+    if (pred[before] >= 0) return before;
+    const int after = WrapIndex(j + d, m);
+    if (pred[after] >= 0) return after;
+  }
+  return -1;
+}
+
+void Count(ParticlePlan& plan) {
+  plan.reused = plan.created = plan.deleted = 0;
+  for (const PlannedParticle& p : plan.particles) {
+    switch (p.action) {
+      case ParticleAction::kReused:
+        ++plan.reused;
+        break;
+      case ParticleAction::kCreated:
+        ++plan.created;
+        break;
+      case ParticleAction::kDeleted:
+        ++plan.deleted;
+        break;
+    }
+  }
+}
+
+}  // namespace
+
+ParticlePlan ProxyStage::Update(const ProxyParams& params, const ContactSet& contacts,
+                                const SceneQuery& scene, std::span<const ParticleFeedback> feedback,
+                                const TableImage* image) {
+  ParticlePlan plan;
+  plan.frame = contacts.frame;
+  m_feedback.clear();
+  for (const ParticleFeedback& f : feedback) m_feedback[f.id] = f;
+
+  // a change of mode ends every particle of the other mode
+  if (params.mode != m_lastMode) {
+    if (params.mode == ProxyMode::kInstant) {
+      for (const auto& [id, track] : m_tracks) DeleteTrack(id, track, plan);
+      m_tracks.clear();
+    } else {
+      m_instant.DeleteAll(plan);
+    }
+    m_lastMode = params.mode;
+  }
+
+  if (params.mode == ProxyMode::kPersistent) {
+    Persistent(params, contacts, scene, plan);
+  } else if (image == nullptr || image->image.empty()) {
+    // instant mode sees nothing without an image: last frame's particles still end
+    ++m_stats.missingImage;
+    m_instant.DeleteAll(plan);
+  } else {
+    m_instant.Update(params, contacts, scene, *image, m_ids, plan);
+  }
+  Count(plan);
+  return plan;
+}
+
+void ProxyStage::Reset() {
+  m_tracks.clear();
+  m_feedback.clear();
+  m_instant.Reset();
+  m_lastMode = ProxyMode::kPersistent;
+  m_stats = {};
+}
+
+int ProxyStage::LiveCount() const {
+  int n = m_instant.LiveCount();
+  for (const auto& [id, track] : m_tracks) n += static_cast<int>(track.ids.size());
+  return n;
+}
+
+void ProxyStage::Persistent(const ProxyParams& params, const ContactSet& contacts,
+                            const SceneQuery& scene, ParticlePlan& plan) {
+  // ids on the table this frame; a lifted entry for one of them is contradictory and ignored
+  std::unordered_set<ContactId> current;
+  for (const Contact& contact : contacts.contacts) {
+    if (contact.state != ContactState::kLifted) current.insert(contact.id);
+  }
+  std::unordered_set<ContactId> seen;
+  for (const Contact& contact : contacts.contacts) {
+    // one entry per id and frame: a repeated id is bad input, the first current entry wins
+    const bool lifted = contact.state == ContactState::kLifted;
+    if ((lifted && current.count(contact.id) > 0) || !seen.insert(contact.id).second) {
+      ++m_stats.duplicateContacts;
+      continue;
+    }
+    auto it = m_tracks.find(contact.id);
+    switch (contact.state) {
+      case ContactState::kLifted:
+        // a lifted contact takes all its particles with it
+        if (it != m_tracks.end()) {
+          DeleteTrack(it->first, it->second, plan);
+          m_tracks.erase(it);
+        }
+        break;
+      case ContactState::kNew:
+        // an id that is new again (tracker restart): its old particles go first
+        if (it != m_tracks.end()) {
+          ++m_stats.restartedNew;
+          DeleteTrack(it->first, it->second, plan);
+          m_tracks.erase(it);
+        }
+        Seed(params, contact, scene, plan);
+        break;
+      case ContactState::kContinuing:
+        if (it == m_tracks.end()) {
+          ++m_stats.unknownContinuing;
+          Seed(params, contact, scene, plan);
+        } else {
+          Continue(params, contact, scene, it->second, plan);
+        }
+        break;
+    }
+  }
+  // contacts that disappeared without being reported lifted are lifted now
+  for (auto it = m_tracks.begin(); it != m_tracks.end();) {
+    if (current.count(it->first) == 0) {
+      ++m_stats.vanishedContacts;
+      DeleteTrack(it->first, it->second, plan);
+      it = m_tracks.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void ProxyStage::Seed(const ProxyParams& params, const Contact& contact, const SceneQuery& scene,
+                      ParticlePlan& plan) {
+  const Contour& cur = contact.blob.contour;
+  const int m = static_cast<int>(cur.cols());
+  Track track;
+  track.contour = cur;
+  track.ids.resize(m);
+  track.baseHeights.resize(m);
+
+  // ground mode keeps a contact on the table unless its deepest contour point lies deeper than
+  // the penetration limit inside a footprint; raycast mode (and such a deep contact) places every
+  // point on the highest surface under it
+  bool raycast = params.placement == Placement::kRaycast;
+  if (!raycast) {
+    double deepest = 0.0;
+    for (int j = 0; j < m; ++j) {
+      double top = 0.0;
+      deepest = std::max(deepest, scene.FootprintDepth(cur.col(j), &top));
+    }
+    raycast = deepest > params.penetrationLimit;
+  }
+
+  for (int j = 0; j < m; ++j) {
+    PlannedParticle p;
+    p.id = m_ids.Next();
+    p.contact = contact.id;
+    p.index = j;
+    p.action = ParticleAction::kCreated;
+    p.target = cur.col(j);
+    if (raycast) {
+      p.start = p.target;
+      p.baseHeight = scene.TopHeightAt(p.target);
+    } else {
+      p.start = scene.NearestOutside(p.target);
+      p.baseHeight = 0.0;
+    }
+    track.ids[j] = p.id;
+    track.baseHeights[j] = p.baseHeight;
+    plan.particles.push_back(p);
+  }
+  m_tracks[contact.id] = std::move(track);
+}
+
+void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
+                          const SceneQuery& scene, Track& track, ParticlePlan& plan) {
+  const Contour& prev = track.contour;
+  const Contour& cur = contact.blob.contour;
+  const int n = static_cast<int>(prev.cols());
+  const int m = static_cast<int>(cur.cols());
+  // nothing to match from: the contact starts over as if new
+  if (n == 0) {
+    Seed(params, contact, scene, plan);
+    return;
+  }
+
+  // successors of the previous points, predecessors of the current ones
+  const MatchResult match = m > 0 ? Match(params, prev, cur, &m_stats.windowedFallbacks)
+                                  : MatchResult{std::vector<int>(n, -1), {}, 0};
+  const std::vector<int> pred = m > 0 ? Predecessors(match, m) : std::vector<int>{};
+
+  // the particle's known base height and position: feedback first, its own record otherwise
+  auto heightOf = [&](int k) {
+    const auto f = m_feedback.find(track.ids[k]);
+    return f != m_feedback.end() ? f->second.baseHeight : track.baseHeights[k];
+  };
+  auto positionOf = [&](int k) -> Vec2 {
+    const auto f = m_feedback.find(track.ids[k]);
+    return f != m_feedback.end() ? f->second.pos : Vec2(prev.col(k));
+  };
+
+  std::vector<ParticleId> ids(m, kNoId);
+  std::vector<double> heights(m, 0.0);
+  for (int j = 0; j < m; ++j) {
+    PlannedParticle p;
+    p.contact = contact.id;
+    p.index = j;
+    p.target = cur.col(j);
+    if (pred[j] >= 0) {
+      // reuse: the predecessor's particle now follows this point
+      p.id = track.ids[pred[j]];
+      p.action = ParticleAction::kReused;
+      p.baseHeight = heightOf(pred[j]);
+    } else {
+      // create: where the nearest kept neighbour's particle sits, at its height
+      const int nb = NearestKept(pred, j);
+      assert(nb >= 0 && "a continuing contact keeps at least one point");
+      p.id = m_ids.Next();
+      p.action = ParticleAction::kCreated;
+      p.start = positionOf(pred[nb]);
+      p.baseHeight = heightOf(pred[nb]);
+      // in ground mode a particle on the table never starts inside a footprint
+      if (params.placement == Placement::kGround && p.baseHeight <= 0.0) {
+        p.start = scene.NearestOutside(p.start);
+        p.baseHeight = 0.0;
+      }
+    }
+    ids[j] = p.id;
+    heights[j] = p.baseHeight;
+    plan.particles.push_back(p);
+  }
+
+  // delete: previous points whose successor did not take them as predecessor
+  for (int k = 0; k < n; ++k) {
+    const int j = match.successor[k];
+    if (j >= 0 && pred[j] == k) continue;
+    PlannedParticle p;
+    p.id = track.ids[k];
+    p.contact = contact.id;
+    p.index = -1;
+    p.action = ParticleAction::kDeleted;
+    p.target = prev.col(k);
+    p.baseHeight = heightOf(k);
+    plan.particles.push_back(p);
+  }
+
+  track.contour = cur;
+  track.ids = std::move(ids);
+  track.baseHeights = std::move(heights);
+}
+
+void ProxyStage::DeleteTrack(ContactId id, const Track& track, ParticlePlan& plan) {
+  for (size_t k = 0; k < track.ids.size(); ++k) {
+    PlannedParticle p;
+    p.id = track.ids[k];
+    p.contact = id;
+    p.index = -1;
+    p.action = ParticleAction::kDeleted;
+    p.target = track.contour.col(static_cast<Eigen::Index>(k));
+    p.baseHeight = track.baseHeights[k];
+    plan.particles.push_back(p);
+  }
+}
+
+std::string CheckPlan(const ParticlePlan& plan, std::span<const ParticleId> aliveBefore) {
+  const std::set<ParticleId> alive(aliveBefore.begin(), aliveBefore.end());
+  std::set<ParticleId> seen;
+  int reused = 0, created = 0, deleted = 0;
+  for (const PlannedParticle& p : plan.particles) {
+    const std::string who = "particle " + std::to_string(p.id);
+    if (p.id == kNoId) return "a particle has no id";
+    if (!seen.insert(p.id).second) return who + " appears twice";
+    const bool wasAlive = alive.count(p.id) > 0;
+    switch (p.action) {
+      case ParticleAction::kReused:
+        if (!wasAlive) return who + " is reused but was not alive";
+        ++reused;
+        break;
+      case ParticleAction::kCreated:
+        if (wasAlive) return who + " is created but was alive";
+        ++created;
+        break;
+      case ParticleAction::kDeleted:
+        if (!wasAlive) return who + " is deleted but was not alive";
+        ++deleted;
+        break;
+    }
+  }
+  if (reused != plan.reused || created != plan.created || deleted != plan.deleted) {
+    return "counts " + std::to_string(plan.reused) + "/" + std::to_string(plan.created) + "/" +
+           std::to_string(plan.deleted) + " differ from the entries " + std::to_string(reused) +
+           "/" + std::to_string(created) + "/" + std::to_string(deleted);
+  }
+  // every particle alive before and not in the plan would be silently kept
+  for (const ParticleId id : alive) {
+    if (seen.count(id) == 0) return "particle " + std::to_string(id) + " alive but not planned";
+  }
+  return "";
+}
+
+}  // namespace pg

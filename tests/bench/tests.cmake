@@ -1,0 +1,1 @@
+proxygrasp_bench(proxies LIBS pg_proxies)

@@ -1,0 +1,491 @@
+#include "proxygrasp/proxies/proxy_stage.h"
+
+#include "proxygrasp/core/rng.h"
+#include "proxygrasp/core/units.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "proxies/test_scene.h"
+#include "proxies/test_shapes.h"
+
+namespace pg {
+namespace {
+
+using testing::Box;
+using testing::BoxScene;
+using testing::CapsuleOutline;
+using testing::CircleOutline;
+using testing::EllipseOutline;
+using testing::HandOutline;
+using testing::kSpacing;
+using testing::Moved;
+using testing::Sensed;
+
+// coordinates of planned targets are copied from the contour: only rounding may differ
+constexpr double kExact = 1e-9;
+
+Contact MakeContact(ContactId id, ContactState state, const Contour& contour) {
+  Contact c;
+  c.id = id;
+  c.state = state;
+  c.blob.contour = contour;
+  if (contour.cols() > 0) c.blob.centroid = PolygonCentroid(contour);
+  return c;
+}
+
+ContactSet MakeSet(int64_t frame, std::vector<Contact> contacts) {
+  ContactSet s;
+  s.frame = frame;
+  s.contacts = std::move(contacts);
+  return s;
+}
+
+// Drives a ProxyStage frame by frame with a stand-in physics in which every particle reaches its
+// target (plus `drift`, to tell fed-back positions from targets) and keeps its base height.
+// Checks the plan's invariants on every frame.
+struct Harness {
+  ProxyStage stage;
+  ProxyParams params;
+  BoxScene scene;
+  Vec2 drift = Vec2::Zero();
+  std::map<ParticleId, ParticleFeedback> physics;
+  std::set<ParticleId> everCreated;
+
+  ParticlePlan Step(const ContactSet& set, const TableImage* image = nullptr) {
+    std::vector<ParticleFeedback> feedback;
+    std::vector<ParticleId> alive;
+    for (const auto& [id, f] : physics) {
+      feedback.push_back(f);
+      alive.push_back(id);
+    }
+    ParticlePlan plan = stage.Update(params, set, scene, feedback, image);
+    EXPECT_EQ(CheckPlan(plan, alive), "") << "frame " << set.frame;
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action == ParticleAction::kDeleted) {
+        physics.erase(p.id);
+        continue;
+      }
+      if (p.action == ParticleAction::kCreated) {
+        // ids are never reused, not even after deletion
+        EXPECT_TRUE(everCreated.insert(p.id).second) << "id " << p.id << " created twice";
+      }
+      physics[p.id] = {p.id, p.target + drift, p.baseHeight};
+    }
+    EXPECT_EQ(stage.LiveCount(), static_cast<int>(physics.size()));
+    if (params.mode == ProxyMode::kPersistent) ExpectEveryPointOwned(set, plan);
+    return plan;
+  }
+
+  // every point of every current contact (first entry of an id) has exactly one live particle
+  static void ExpectEveryPointOwned(const ContactSet& set, const ParticlePlan& plan) {
+    std::set<ContactId> seen;
+    size_t points = 0;
+    std::map<std::pair<ContactId, int>, int> owners;
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action != ParticleAction::kDeleted) ++owners[{p.contact, p.index}];
+    }
+    for (const Contact& c : set.contacts) {
+      if (c.state == ContactState::kLifted || !seen.insert(c.id).second) continue;
+      for (int j = 0; j < c.blob.contour.cols(); ++j) {
+        EXPECT_EQ((owners[{c.id, j}]), 1) << "contact " << c.id << " point " << j;
+      }
+      points += c.blob.contour.cols();
+    }
+    EXPECT_EQ(static_cast<size_t>(plan.reused + plan.created), points);
+  }
+};
+
+const PlannedParticle* AtIndex(const ParticlePlan& plan, ContactId contact, int index) {
+  for (const PlannedParticle& p : plan.particles) {
+    if (p.contact == contact && p.index == index && p.action != ParticleAction::kDeleted) {
+      return &p;
+    }
+  }
+  return nullptr;
+}
+
+TEST(ProxyStage, NewContactSeedsOneParticlePerPoint) {
+  Harness h;
+  const Contour c = Sensed(Moved(CapsuleOutline(3.0, 0.8), {Vec2(20, 20), 0.3}));
+  const ParticlePlan plan = h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, c)}));
+  EXPECT_EQ(plan.created, c.cols());
+  EXPECT_EQ(plan.reused, 0);
+  EXPECT_EQ(plan.deleted, 0);
+  for (const PlannedParticle& p : plan.particles) {
+    EXPECT_EQ(p.contact, 1);
+    EXPECT_NEAR((p.target - c.col(p.index)).norm(), 0.0, kExact);
+    EXPECT_NEAR((p.start - p.target).norm(), 0.0, kExact);
+    EXPECT_EQ(p.baseHeight, 0.0);  // nothing on the table
+  }
+}
+
+TEST(ProxyStage, RigidTranslationKeepsEveryParticle) {
+  // steps below half the contour spacing: matching each point to its translated self beats
+  // sliding one point along the contour (|t . tangent| < spacing / 2), so nothing is created or
+  // deleted and each particle follows its own point
+  for (const MatchAlgorithm algorithm :
+       {MatchAlgorithm::kReference, MatchAlgorithm::kFast, MatchAlgorithm::kWindowed}) {
+    Harness h;
+    h.params.algorithm = algorithm;
+    Rng rng(static_cast<uint64_t>(algorithm) + 1);
+    const Contour outline = CapsuleOutline(4.0, 0.9);
+    Pose2 pose{Vec2(25, 20), 0.7};
+    Contour prev = Sensed(Moved(outline, pose));
+    ParticlePlan plan = h.Step(MakeSet(0, {MakeContact(4, ContactState::kNew, prev)}));
+    std::vector<ParticleId> ids(prev.cols());
+    for (const PlannedParticle& p : plan.particles) ids[p.index] = p.id;
+    for (int frame = 1; frame < 25; ++frame) {
+      const double dir = rng.Uniform(-kPi, kPi);
+      const Vec2 t = 0.12 * Vec2(std::cos(dir), std::sin(dir));
+      pose.pos += t;
+      const Contour cur = Sensed(Moved(outline, pose));
+      plan = h.Step(MakeSet(frame, {MakeContact(4, ContactState::kContinuing, cur)}));
+      ASSERT_EQ(plan.created, 0) << "frame " << frame;
+      ASSERT_EQ(plan.deleted, 0) << "frame " << frame;
+      for (const PlannedParticle& p : plan.particles) {
+        // the same particle at the same point, moved by exactly t (resampling rounds ~1e-12)
+        EXPECT_EQ(p.id, ids[p.index]);
+        EXPECT_NEAR((p.target - (prev.col(p.index) + t)).norm(), 0.0, 1e-6);
+      }
+      prev = cur;
+    }
+  }
+}
+
+TEST(ProxyStage, RotatingElongatedContactMapsItsPoints) {
+  // a flat finger turning 4 degrees per frame about its centre: each reused particle moves to
+  // the current point nearest where its old point turned to (within one spacing: resampling
+  // moves points along the contour by less than that)
+  Harness h;
+  const Contour outline = CapsuleOutline(5.0, 0.8);
+  Pose2 pose{Vec2(30, 25), 0.2};
+  ContactSet set = MakeSet(0, {MakeContact(2, ContactState::kNew, Sensed(Moved(outline, pose)))});
+  h.Step(set);
+  for (int frame = 1; frame < 20; ++frame) {
+    const Pose2 before = pose;
+    pose.angle += DegToRad(4);
+    std::map<ParticleId, Vec2> old;
+    for (const auto& [id, f] : h.physics) old[id] = f.pos;
+    set = MakeSet(frame, {MakeContact(2, ContactState::kContinuing, Sensed(Moved(outline, pose)))});
+    const ParticlePlan plan = h.Step(set);
+    int reused = 0;
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action != ParticleAction::kReused) continue;
+      const Vec2 turned = pose.Apply(before.Inverse(old[p.id]));
+      EXPECT_LT((p.target - turned).norm(), kSpacing) << "frame " << frame << " id " << p.id;
+      ++reused;
+    }
+    // the capsule's outline does not change: nearly every particle carries over
+    EXPECT_GE(reused, 0.95 * set.contacts[0].blob.contour.cols());
+  }
+}
+
+TEST(ProxyStage, GrowingContactCreatesAtNeighboursPositionAndHeight) {
+  Harness h;
+  // the stand-in physics reports positions off the targets, so starts must come from feedback
+  h.drift = Vec2(0.05, -0.02);
+  const Vec2 at(20, 20);
+  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, Sensed(Moved(CircleOutline(1.0), {at})))}));
+  // give every particle its own base height, as if each rested on a different surface
+  for (auto& [id, f] : h.physics) f.baseHeight = 0.01 * id;
+  int createdTotal = 0;
+  for (int frame = 1; frame <= 6; ++frame) {
+    const std::map<ParticleId, ParticleFeedback> before = h.physics;
+    const Contour cur = Sensed(Moved(CircleOutline(1.0 + 0.1 * frame), {at}));
+    const ParticlePlan plan =
+        h.Step(MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur)}));
+    EXPECT_GT(plan.created, 0);
+    createdTotal += plan.created;
+    const int m = static_cast<int>(cur.cols());
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action != ParticleAction::kCreated) continue;
+      // the nearest kept neighbour along the contour, the preceding one first
+      const PlannedParticle* nb = nullptr;
+      for (int d = 1; d <= m / 2 && !nb; ++d) {
+        for (const int j : {WrapIndex(p.index - d, m), WrapIndex(p.index + d, m)}) {
+          const PlannedParticle* q = AtIndex(plan, 1, j);
+          if (q && q->action == ParticleAction::kReused) {
+            nb = q;
+            break;
+          }
+        }
+      }
+      ASSERT_NE(nb, nullptr);
+      EXPECT_NEAR((p.start - before.at(nb->id).pos).norm(), 0.0, kExact);
+      EXPECT_EQ(p.baseHeight, before.at(nb->id).baseHeight);
+    }
+  }
+  // at least one particle per point the contour gained: 2 pi (1.6 - 1.0) cm / 0.3 cm, ~13
+  const int gained =
+      static_cast<int>(Sensed(CircleOutline(1.6)).cols() - Sensed(CircleOutline(1.0)).cols());
+  EXPECT_GE(createdTotal, gained);
+}
+
+TEST(ProxyStage, WithoutFeedbackCreatedParticlesStartAtTheNeighboursLastTarget) {
+  // no physics feedback at all: a new particle starts at its neighbour's last target and takes
+  // the height the stage recorded for it
+  ProxyStage stage;
+  ProxyParams params;
+  BoxScene scene;
+  scene.boxes = {{Vec2(19, 19), Vec2(21, 21), 3.0}};
+  const Vec2 at(20, 20);
+  ParticlePlan last = stage.Update(
+      params,
+      MakeSet(0, {MakeContact(1, ContactState::kNew, Sensed(Moved(CircleOutline(0.5), {at})))}),
+      scene, {}, nullptr);
+  for (int frame = 1; frame <= 4; ++frame) {
+    std::map<ParticleId, PlannedParticle> before;
+    for (const PlannedParticle& p : last.particles) before[p.id] = p;
+    const Contour cur = Sensed(Moved(CircleOutline(0.5 + 0.25 * frame), {at}));
+    const ParticlePlan plan =
+        stage.Update(params, MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur)}),
+                     scene, {}, nullptr);
+    const int m = static_cast<int>(cur.cols());
+    int created = 0;
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action != ParticleAction::kCreated) continue;
+      ++created;
+      const PlannedParticle* nb = nullptr;
+      for (int d = 1; d <= m / 2 && !nb; ++d) {
+        for (const int j : {WrapIndex(p.index - d, m), WrapIndex(p.index + d, m)}) {
+          const PlannedParticle* q = AtIndex(plan, 1, j);
+          if (q && q->action == ParticleAction::kReused) {
+            nb = q;
+            break;
+          }
+        }
+      }
+      ASSERT_NE(nb, nullptr);
+      EXPECT_NEAR((p.start - before.at(nb->id).target).norm(), 0.0, kExact);
+      // the seed sat wholly on the box (radius 0.5 inside a 2 cm box): height 3 is inherited even
+      // where the grown contour now lies beyond the box
+      EXPECT_EQ(p.baseHeight, 3.0);
+    }
+    EXPECT_GT(created, 0);
+    last = plan;
+  }
+}
+
+TEST(ProxyStage, ShrinkingContactDeletesParticles) {
+  Harness h;
+  const Vec2 at(30, 20);
+  Contour prev = Sensed(Moved(EllipseOutline(3.0, 2.0), {at}));
+  h.Step(MakeSet(0, {MakeContact(3, ContactState::kNew, prev)}));
+  for (int frame = 1; frame <= 8; ++frame) {
+    const double s = 1.0 - 0.08 * frame;
+    const Contour cur = Sensed(Moved(EllipseOutline(3.0 * s, 2.0 * s), {at}));
+    const ParticlePlan plan =
+        h.Step(MakeSet(frame, {MakeContact(3, ContactState::kContinuing, cur)}));
+    EXPECT_GE(plan.deleted, prev.cols() - cur.cols());
+    EXPECT_GT(plan.deleted, 0);
+    EXPECT_EQ(h.stage.LiveCount(), cur.cols());
+    prev = cur;
+  }
+}
+
+TEST(ProxyStage, LiftedAndVanishedContactsDeleteAll) {
+  Harness h;
+  const Contour a = Sensed(Moved(CircleOutline(0.8), {Vec2(10, 10)}));
+  const Contour b = Sensed(Moved(CircleOutline(0.8), {Vec2(20, 10)}));
+  h.Step(
+      MakeSet(0, {MakeContact(1, ContactState::kNew, a), MakeContact(2, ContactState::kNew, b)}));
+  // 1 is lifted (it carries its last blob); 2 simply goes missing from the set
+  const ParticlePlan plan = h.Step(MakeSet(1, {MakeContact(1, ContactState::kLifted, a)}));
+  EXPECT_EQ(plan.deleted, a.cols() + b.cols());
+  EXPECT_EQ(h.stage.LiveCount(), 0);
+  EXPECT_EQ(h.stage.Stats().vanishedContacts, 1);
+}
+
+TEST(ProxyStage, AllAlgorithmsGiveTheSamePlanForSmallMotion) {
+  // reference and fast are exact twins; windowed agrees with them for gentle motion
+  std::vector<ParticlePlan> plans;
+  for (const MatchAlgorithm algorithm :
+       {MatchAlgorithm::kReference, MatchAlgorithm::kFast, MatchAlgorithm::kWindowed}) {
+    Harness h;
+    h.params.algorithm = algorithm;
+    h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew,
+                                   Sensed(Moved(HandOutline(), {Vec2(30, 22), 0.1})))}));
+    plans.push_back(h.Step(MakeSet(
+        1, {MakeContact(1, ContactState::kContinuing,
+                        Sensed(Moved(HandOutline(), {Vec2(30.4, 22.2), 0.1 + DegToRad(2)})))})));
+  }
+  for (size_t a = 1; a < plans.size(); ++a) {
+    ASSERT_EQ(plans[a].particles.size(), plans[0].particles.size());
+    for (size_t i = 0; i < plans[0].particles.size(); ++i) {
+      EXPECT_EQ(plans[a].particles[i].id, plans[0].particles[i].id);
+      EXPECT_EQ(plans[a].particles[i].action, plans[0].particles[i].action);
+    }
+  }
+}
+
+TEST(ProxyStage, MergesSplitsAndBadInputKeepIdsUnique) {
+  Harness h;
+  // two fingertips close in, merge into one blob (the tracker keeps id 1 and lifts 2), split
+  // again (id 1 continues with one part, id 3 is new), then the tracker misbehaves
+  auto finger = [](double x) { return Sensed(Moved(CircleOutline(0.9), {Vec2(x, 20)})); };
+  const Contour merged = Sensed(Moved(CapsuleOutline(2.2, 0.9), {Vec2(21.1, 20)}));
+  int frame = 0;
+  h.Step(MakeSet(frame++, {MakeContact(1, ContactState::kNew, finger(18)),
+                           MakeContact(2, ContactState::kNew, finger(24))}));
+  h.Step(MakeSet(frame++, {MakeContact(1, ContactState::kContinuing, finger(19)),
+                           MakeContact(2, ContactState::kContinuing, finger(23))}));
+  h.Step(MakeSet(frame++, {MakeContact(1, ContactState::kContinuing, merged),
+                           MakeContact(2, ContactState::kLifted, finger(23))}));
+  h.Step(MakeSet(frame++, {MakeContact(1, ContactState::kContinuing, finger(19)),
+                           MakeContact(3, ContactState::kNew, finger(23))}));
+  // a duplicate id, a continuing contact never seen, a new contact with a live id, an empty
+  // contour, and a lifted contact that was never there
+  h.Step(MakeSet(frame++, {MakeContact(1, ContactState::kContinuing, finger(19.1)),
+                           MakeContact(1, ContactState::kContinuing, finger(30)),
+                           MakeContact(7, ContactState::kContinuing, finger(40)),
+                           MakeContact(3, ContactState::kNew, finger(23.1)),
+                           MakeContact(8, ContactState::kLifted, finger(50))}));
+  h.Step(MakeSet(frame++, {MakeContact(1, ContactState::kContinuing, Contour(2, 0)),
+                           MakeContact(7, ContactState::kContinuing, finger(40.2))}));
+  h.Step(MakeSet(frame++, {MakeContact(1, ContactState::kContinuing, finger(19.2)),
+                           MakeContact(7, ContactState::kContinuing, finger(40.3))}));
+  // a contact reported lifted and continuing in one set: the current entry wins
+  h.Step(MakeSet(frame++, {MakeContact(7, ContactState::kLifted, finger(40.3)),
+                           MakeContact(7, ContactState::kContinuing, finger(40.4)),
+                           MakeContact(1, ContactState::kContinuing, finger(19.2))}));
+  EXPECT_EQ(h.stage.Stats().duplicateContacts, 2);
+  EXPECT_EQ(h.stage.Stats().unknownContinuing, 1);
+  EXPECT_EQ(h.stage.Stats().restartedNew, 1);
+
+  // a long random walk of blobs appearing, moving, merging, splitting, growing and vanishing
+  Rng rng(77);
+  std::map<ContactId, std::pair<Vec2, double>> blobs;  // centre, radius
+  ContactId nextId = 100;
+  for (; frame < 200; ++frame) {
+    std::vector<Contact> contacts;
+    for (auto it = blobs.begin(); it != blobs.end();) {
+      const double r = rng.Uniform();
+      if (r < 0.05) {
+        contacts.push_back(MakeContact(it->first, ContactState::kLifted, Contour(2, 0)));
+        it = blobs.erase(it);
+        continue;
+      }
+      it->second.first += Vec2(rng.Uniform(-0.4, 0.4), rng.Uniform(-0.4, 0.4));
+      it->second.second = std::clamp(it->second.second * rng.Uniform(0.8, 1.25), 0.4, 3.0);
+      const Contour outline = rng.Uniform() < 0.5
+                                  ? CircleOutline(it->second.second)
+                                  : CapsuleOutline(2 * it->second.second, it->second.second / 2);
+      contacts.push_back(MakeContact(it->first, ContactState::kContinuing,
+                                     Sensed(Moved(outline, {it->second.first, rng.Uniform()}))));
+      ++it;
+    }
+    if (blobs.size() < 5 && rng.Uniform() < 0.3) {
+      const ContactId id = nextId++;
+      blobs[id] = {Vec2(rng.Uniform(5, 55), rng.Uniform(5, 40)), rng.Uniform(0.5, 2.0)};
+      contacts.push_back(
+          MakeContact(id, ContactState::kNew,
+                      Sensed(Moved(CircleOutline(blobs[id].second), {blobs[id].first}))));
+    }
+    h.Step(MakeSet(frame, contacts));
+    if (::testing::Test::HasFailure()) break;
+  }
+}
+
+TEST(ProxyStage, NewContactOverAnObjectRestsOnItsTop) {
+  Harness h;
+  h.scene.boxes = {{Vec2(20, 20), Vec2(30, 30), 5.0}};
+  // a fingertip inside the footprint, one straddling its left edge, one on the table
+  const Contour inside = Sensed(Moved(CircleOutline(0.8), {Vec2(25, 25)}));
+  const Contour edge = Sensed(Moved(CircleOutline(0.8), {Vec2(20, 25)}));
+  const Contour off = Sensed(Moved(CircleOutline(0.8), {Vec2(10, 10)}));
+  const ParticlePlan plan = h.Step(MakeSet(
+      0, {MakeContact(1, ContactState::kNew, inside), MakeContact(2, ContactState::kNew, edge),
+          MakeContact(3, ContactState::kNew, off)}));
+  for (const PlannedParticle& p : plan.particles) {
+    // raycast: the highest surface under each point
+    const double expected = p.contact == 3                                 ? 0.0
+                            : BoxScene::Inside(h.scene.boxes[0], p.target) ? 5.0
+                                                                           : 0.0;
+    EXPECT_EQ(p.baseHeight, expected) << "contact " << p.contact << " point " << p.index;
+    if (p.contact == 1) {
+      EXPECT_EQ(p.baseHeight, 5.0);
+    }
+  }
+}
+
+TEST(ProxyStage, CreatedParticleKeepsNeighbourHeightOverAnObject) {
+  // a contact that lands on the table beside a box, slides into its footprint and spreads: the
+  // particles created there start at their neighbours' height (the table), not on the box top
+  Harness h;
+  h.scene.boxes = {{Vec2(20, 15), Vec2(30, 25), 5.0}};
+  Vec2 at(18.5, 20);
+  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, Sensed(Moved(CircleOutline(1.0), {at})))}));
+  int createdInside = 0;
+  for (int frame = 1; frame <= 10; ++frame) {
+    at.x() += 0.12;
+    const Contour cur = Sensed(Moved(CircleOutline(1.0 + 0.08 * frame), {at}));
+    const ParticlePlan plan =
+        h.Step(MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur)}));
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action == ParticleAction::kDeleted) continue;
+      EXPECT_EQ(p.baseHeight, 0.0) << "frame " << frame << " point " << p.index;
+      if (p.action == ParticleAction::kCreated && h.scene.TopHeightAt(p.target) > 0) {
+        ++createdInside;
+      }
+    }
+  }
+  EXPECT_GT(createdInside, 0);  // the test did create particles over the box
+}
+
+TEST(ProxyStage, GroundModePlacesOutsideFootprintsUnlessTooDeep) {
+  Harness h;
+  h.params.placement = Placement::kGround;
+  h.params.penetrationLimit = 1.5;
+  h.scene.boxes = {{Vec2(20, 20), Vec2(30, 30), 5.0}};
+  // deepest contour point 1.0 cm inside the left side: shallow, goes on the table outside
+  const Contour shallow = Sensed(Moved(CircleOutline(0.8), {Vec2(20.2, 25)}));
+  // deepest point 2.0 + 1.6 cm inside: too deep to be beside the box, goes on its top
+  const Contour deep = Sensed(Moved(CircleOutline(0.8), {Vec2(22.8, 25)}));
+  const ParticlePlan plan = h.Step(MakeSet(
+      0, {MakeContact(1, ContactState::kNew, shallow), MakeContact(2, ContactState::kNew, deep)}));
+  for (const PlannedParticle& p : plan.particles) {
+    if (p.contact == 1) {
+      EXPECT_EQ(p.baseHeight, 0.0);
+      EXPECT_FALSE(BoxScene::Inside(h.scene.boxes[0], p.start)) << "point " << p.index;
+      EXPECT_NEAR((p.target - shallow.col(p.index)).norm(), 0.0, kExact);
+    } else {
+      EXPECT_EQ(p.baseHeight, 5.0);
+      EXPECT_NEAR((p.start - p.target).norm(), 0.0, kExact);
+    }
+  }
+  // the shallow contact presses further in and grows: new particles stay outside, on the table
+  for (int frame = 1; frame <= 5; ++frame) {
+    const Contour cur =
+        Sensed(Moved(CircleOutline(0.8 + 0.1 * frame), {Vec2(20.2 + 0.1 * frame, 25)}));
+    const ParticlePlan next =
+        h.Step(MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur),
+                               MakeContact(2, ContactState::kContinuing, deep)}));
+    for (const PlannedParticle& p : next.particles) {
+      if (p.contact != 1 || p.action != ParticleAction::kCreated) continue;
+      EXPECT_EQ(p.baseHeight, 0.0);
+      EXPECT_FALSE(BoxScene::Inside(h.scene.boxes[0], p.start));
+    }
+  }
+}
+
+TEST(ProxyStage, ModeSwitchEndsTheOtherModesParticles) {
+  Harness h;
+  const Contour c = Sensed(Moved(CircleOutline(1.0), {Vec2(10, 10)}));
+  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, c)}));
+  // instant mode without an image: the persistent particles end, nothing new appears
+  h.params.mode = ProxyMode::kInstant;
+  const ParticlePlan plan = h.Step(MakeSet(1, {MakeContact(1, ContactState::kContinuing, c)}));
+  EXPECT_EQ(plan.deleted, c.cols());
+  EXPECT_EQ(plan.created, 0);
+  EXPECT_EQ(h.stage.Stats().missingImage, 1);
+  // and back: the contact is seeded afresh
+  h.params.mode = ProxyMode::kPersistent;
+  const ParticlePlan back = h.Step(MakeSet(2, {MakeContact(1, ContactState::kContinuing, c)}));
+  EXPECT_EQ(back.created, c.cols());
+}
+
+}  // namespace
+}  // namespace pg

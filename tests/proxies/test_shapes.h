@@ -1,0 +1,122 @@
+// Analytic contact contours for the proxies tests and benchmark, shaped as sensing delivers them:
+// counter-clockwise, resampled to ~0.3 cm spacing, starting at the lowest point (the first pixel a
+// raster scan of the table image meets), so the start index moves as the shape moves.
+#pragma once
+
+#include "proxygrasp/core/geometry.h"
+#include "proxygrasp/core/units.h"
+
+#include <cmath>
+#include <vector>
+
+namespace pg::testing {
+
+/// The spacing sensing resamples contours to, cm.
+inline constexpr double kSpacing = 0.3;
+
+/// An outline as sensing would deliver it: CCW, start at the lowest (then leftmost) point of a
+/// dense sampling, resampled to `spacing`.
+inline Contour Sensed(const Contour& outline, double spacing = kSpacing) {
+  const Contour dense = ResampleClosed(MakeCounterClockwise(outline), 0.02);
+  int start = 0;
+  for (int i = 1; i < dense.cols(); ++i) {
+    const double dy = dense(1, i) - dense(1, start);
+    if (dy < -1e-9 || (std::abs(dy) <= 1e-9 && dense(0, i) < dense(0, start))) start = i;
+  }
+  Contour rotated(2, dense.cols());
+  for (int i = 0; i < dense.cols(); ++i) rotated.col(i) = dense.col((start + i) % dense.cols());
+  return ResampleClosed(rotated, spacing);
+}
+
+/// An outline moved by a pose.
+inline Contour Moved(const Contour& c, const Pose2& pose) {
+  Contour out(2, c.cols());
+  for (int i = 0; i < c.cols(); ++i) out.col(i) = pose.Apply(c.col(i));
+  return out;
+}
+
+/// An arc of `count` points around centre from angle a0 to a1 (radians), end points included.
+inline void AppendArc(std::vector<Vec2>& pts, const Vec2& centre, double radius, double a0,
+                      double a1, int count) {
+  for (int i = 0; i < count; ++i) {
+    const double a = a0 + (a1 - a0) * i / (count - 1);
+    pts.push_back(centre + radius * Vec2(std::cos(a), std::sin(a)));
+  }
+}
+
+/// A circle outline (local frame centred on the origin).
+inline Contour CircleOutline(double radius) {
+  std::vector<Vec2> pts;
+  AppendArc(pts, Vec2::Zero(), radius, 0.0, 2 * kPi * (1.0 - 1.0 / 256), 256);
+  return ToContour(pts);
+}
+
+/// An ellipse outline with semi-axes rx (local x) and ry.
+inline Contour EllipseOutline(double rx, double ry) {
+  Contour c(2, 256);
+  for (int i = 0; i < 256; ++i) {
+    const double a = 2 * kPi * i / 256;
+    c.col(i) = Vec2(rx * std::cos(a), ry * std::sin(a));
+  }
+  return c;
+}
+
+/// A capsule outline: the segment from (-length/2, 0) to (length/2, 0) swept by radius.
+inline Contour CapsuleOutline(double length, double radius) {
+  std::vector<Vec2> pts;
+  AppendArc(pts, Vec2(length / 2, 0), radius, -kPi / 2, kPi / 2, 64);
+  AppendArc(pts, Vec2(-length / 2, 0), radius, kPi / 2, 3 * kPi / 2, 64);
+  return ToContour(pts);
+}
+
+/// One finger of a hand outline, walked counter-clockwise: out along its right side, round the
+/// tip, back along its left side. base is the centre of its root, angle its direction.
+inline void AppendFinger(std::vector<Vec2>& pts, const Vec2& base, double angle, double length,
+                         double radius) {
+  const Vec2 u(std::cos(angle), std::sin(angle));
+  const Vec2 right(u.y(), -u.x());
+  pts.push_back(base + radius * right);
+  AppendArc(pts, base + length * u, radius, angle - kPi / 2, angle + kPi / 2, 24);
+  pts.push_back(base - radius * right);
+}
+
+/// A hand with five spread fingers, fingers along local +y, palm centred on the origin; about
+/// 19 cm long at scale 1 and 2 x 500 points for two hands at 0.3 cm spacing.
+inline Contour HandOutline(double scale = 1.0) {
+  std::vector<Vec2> pts;
+  const double s = scale;
+  // palm: rounded bottom, right side up to the little finger
+  AppendArc(pts, Vec2(0, -3.0 * s), 4.0 * s, kPi, 2 * kPi, 24);
+  pts.push_back(Vec2(4.0 * s, 2.8 * s));
+  // four fingers from the little finger (right) to the index finger, fanned outward
+  const double bases[4] = {3.05, 1.0, -1.0, -3.05};
+  const double angles[4] = {-12, -4, 4, 12};
+  const double lengths[4] = {5.5, 7.0, 7.5, 6.5};
+  for (int f = 0; f < 4; ++f) {
+    AppendFinger(pts, Vec2(bases[f] * s, 3.2 * s), DegToRad(90 + angles[f]), lengths[f] * s,
+                 0.85 * s);
+  }
+  // left side of the palm and the thumb, pointing up and out to the left
+  pts.push_back(Vec2(-4.0 * s, 2.8 * s));
+  AppendFinger(pts, Vec2(-4.2 * s, -1.0 * s), DegToRad(150), 4.5 * s, 1.0 * s);
+  return ToContour(pts);
+}
+
+/// True when no two non-adjacent edges of the closed polygon cross.
+inline bool IsSimple(const Contour& c) {
+  const int n = static_cast<int>(c.cols());
+  auto cross = [](const Vec2& a, const Vec2& b, const Vec2& p) { return Cross(b - a, p - a); };
+  for (int i = 0; i < n; ++i) {
+    const Vec2 a = c.col(i), b = c.col((i + 1) % n);
+    for (int j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;
+      const Vec2 p = c.col(j), q = c.col((j + 1) % n);
+      const double d1 = cross(a, b, p), d2 = cross(a, b, q);
+      const double d3 = cross(p, q, a), d4 = cross(p, q, b);
+      if (((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0))) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace pg::testing
