@@ -28,10 +28,13 @@ void LayerListener::PreSolve(b2Contact* contact, const b2Manifold* oldManifold) 
   const BodyKind ka = TagKind(a), kb = TagKind(b);
   // friction of an object against particles or walls is the object's own coefficient;
   // object against object keeps Box2D's geometric mean of the two objectFriction values
+  // particle contacts are inelastic: the controller, not a bounce, sets how hard they push
   if (ka == BodyKind::kObject && kb == BodyKind::kParticle) {
     contact->SetFriction(static_cast<float>((*particleFriction)[TagIndex(a)]));
+    contact->SetRestitution(0.0f);
   } else if (kb == BodyKind::kObject && ka == BodyKind::kParticle) {
     contact->SetFriction(static_cast<float>((*particleFriction)[TagIndex(b)]));
+    contact->SetRestitution(0.0f);
   } else if (ka == BodyKind::kObject && kb == BodyKind::kWall) {
     contact->SetFriction(static_cast<float>((*objectFriction)[TagIndex(a)]));
   } else if (kb == BodyKind::kObject && ka == BodyKind::kWall) {
@@ -227,7 +230,8 @@ void LayeredWorld::Impl::CollectRecords(bool lastSubstep) {
       if (!lastSubstep) continue;
       f.contacts += r.points;
       // a contact that pushes and does not slip takes part in a grip
-      if (r.normalImpulse > 0 && std::abs(r.tangentImpulse) < margin * r.friction * r.normalImpulse) {
+      if (r.normalImpulse > 0 &&
+          std::abs(r.tangentImpulse) < margin * r.friction * r.normalImpulse) {
         gripping[r.object].push_back(r.normalIn);
       }
     }

@@ -1,7 +1,8 @@
 #include "proxygrasp/physics/layered_world.h"
 
-#include "proxygrasp/core/text.h"
 #include "world_impl.h"
+
+#include "proxygrasp/core/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,7 +26,8 @@ Status ValidateParams(const PhysicsParams& p, const TableParams& t) {
     return std::nullopt;
   };
   Status s;
-  if ((s = range("frame_rate", p.frameRate, 1, 1000)) || (s = range("substeps", p.substeps, 1, 64)) ||
+  if ((s = range("frame_rate", p.frameRate, 1, 1000)) ||
+      (s = range("substeps", p.substeps, 1, 64)) ||
       (s = range("velocity_iterations", p.velocityIterations, 1, 100)) ||
       (s = range("position_iterations", p.positionIterations, 1, 100)) ||
       (s = range("threads", p.threads, 1, 16)) ||

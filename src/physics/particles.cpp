@@ -78,7 +78,6 @@ void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Ve
     bd.position = ToB2(pos);
     bd.linearVelocity = ToB2(vel);
     bd.fixedRotation = true;
-    bd.bullet = true;
     bd.allowSleep = false;
     b2Body* body = layers[k]->world->CreateBody(&bd);
     body->CreateFixture(&fd);
@@ -103,6 +102,10 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       const Vec2 v = FromB2(b->GetLinearVelocity());
       const Vec2 force = m * ((goal - x) / dt - v) / dt;
       b->ApplyForceToCenter(ToB2(force), true);
+      // continuous collision only when a step could carry the body past a surface: a body moving
+      // less than its radius per step is caught by the ordinary contact; the TOI sub-steps would
+      // otherwise disturb the steady contact forces of a squeeze
+      b->SetBullet((goal - x).norm() > params.particleRadius);
     }
   }
 }

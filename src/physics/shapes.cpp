@@ -126,7 +126,8 @@ double ObjectHeight(const ObjectSpec& spec) {
 
 Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params) {
   auto positive = [&](const char* field, double v) -> Status {
-    if (!(v > 0) || !std::isfinite(v)) return FieldError(spec, field, "must be > 0 (got " + Num(v) + ")");
+    if (!(v > 0) || !std::isfinite(v))
+      return FieldError(spec, field, "must be > 0 (got " + Num(v) + ")");
     return std::nullopt;
   };
   auto nonNegative = [&](const char* field, double v) -> Status {
@@ -147,15 +148,17 @@ Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params) {
       if ((s = positive("radius", spec.radius))) return s;
       break;
     case ObjectShape::kFrustum:
-      if ((s = positive("radius", spec.radius)) || (s = nonNegative("top_radius", spec.topRadius))) {
+      if ((s = positive("radius", spec.radius)) ||
+          (s = nonNegative("top_radius", spec.topRadius))) {
         return s;
       }
       break;
     case ObjectShape::kConvexPrism:
     case ObjectShape::kConcavePrism: {
       if (spec.points.size() < 3) {
-        return FieldError(spec, "points", "needs at least 3 points (got " +
-                                              std::to_string(spec.points.size()) + ")");
+        return FieldError(
+            spec, "points",
+            "needs at least 3 points (got " + std::to_string(spec.points.size()) + ")");
       }
       for (size_t i = 0; i < spec.points.size(); ++i) {
         if (!spec.points[i].allFinite()) {
@@ -205,9 +208,9 @@ Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params) {
     return s;
   }
   if (spec.tableKinetic > spec.tableStatic) {
-    return FieldError(spec, "table_kinetic",
-                      "must be <= table_static (" + Num(spec.tableKinetic) + " > " +
-                          Num(spec.tableStatic) + ")");
+    return FieldError(
+        spec, "table_kinetic",
+        "must be <= table_static (" + Num(spec.tableKinetic) + " > " + Num(spec.tableStatic) + ")");
   }
   if (spec.restitution > 1) {
     return FieldError(spec, "restitution", "must be <= 1 (got " + Num(spec.restitution) + ")");
@@ -258,9 +261,9 @@ MassProps ComputeMassProps(const ObjectSpec& spec) {
       // integral over z of the disc volume and of the disc inertia pi r^4 / 2
       const double R = spec.radius, t = spec.topRadius;
       m.volume = kPi * H / 3.0 * (R * R + R * t + t * t);
-      inertiaPerDensity = kPi * H / 10.0 *
-                          (R * R * R * R + R * R * R * t + R * R * t * t + R * t * t * t +
-                           t * t * t * t);
+      inertiaPerDensity =
+          kPi * H / 10.0 *
+          (R * R * R * R + R * R * R * t + R * R * t * t + R * t * t * t + t * t * t * t);
       break;
     }
     case ObjectShape::kConvexPrism:
@@ -341,7 +344,7 @@ double SurfaceHeightAt(const ObjectSpec& spec, const Vec2& p) {
   switch (spec.shape) {
     case ObjectShape::kBox:
       return std::abs(p.x()) <= spec.sizeX / 2 && std::abs(p.y()) <= spec.sizeY / 2 ? spec.height
-                                                                                     : -1.0;
+                                                                                    : -1.0;
     case ObjectShape::kCylinder:
       return d <= spec.radius ? spec.height : -1.0;
     case ObjectShape::kSphere:
@@ -454,8 +457,7 @@ std::vector<Contour> ConvexDecompose(const Contour& polygon, int maxVertices) {
     }
     // numerically stuck: clip the most convex corner
     if (ear < 0) ear = fallback;
-    pieces.push_back(
-        {remaining[WrapIndex(ear - 1, m)], remaining[ear], remaining[(ear + 1) % m]});
+    pieces.push_back({remaining[WrapIndex(ear - 1, m)], remaining[ear], remaining[(ear + 1) % m]});
     remaining.erase(remaining.begin() + ear);
   }
   pieces.push_back(remaining);

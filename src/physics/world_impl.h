@@ -3,9 +3,10 @@
 // kinematic control, support).
 #pragma once
 
+#include "thread_pool.h"
+
 #include "proxygrasp/physics/layered_world.h"
 #include "proxygrasp/physics/shapes.h"
-#include "thread_pool.h"
 
 #include <box2d/box2d.h>
 
@@ -91,8 +92,8 @@ struct Push {
 struct ObjectData {
   ObjectSpec spec;
   MassProps props;
-  double top = 0.0;   ///< top height, cm
-  double rEff = 0.0;  ///< table friction lever arm, cm
+  double top = 0.0;          ///< top height, cm
+  double rEff = 0.0;         ///< table friction lever arm, cm
   double boundRadius = 0.0;  ///< footprint radius about the local origin, cm
   CrossSection footprint;
   std::vector<Slice> slices;  ///< layers 0 .. slices.size()-1

@@ -211,7 +211,8 @@ TEST(Coupling, SlicesShareOnePoseAfterEverySubstep) {
   MustBuild(w, p, {a, b, c});
   // particles sweep through the objects in layers 0..2
   std::vector<PlannedParticle> ps;
-  for (int i = 0; i < 20; ++i) ps.push_back(Create(i + 1, Vec2(40, 18 + 0.5 * i), Vec2(39, 18 + 0.5 * i)));
+  for (int i = 0; i < 20; ++i)
+    ps.push_back(Create(i + 1, Vec2(40, 18 + 0.5 * i), Vec2(39, 18 + 0.5 * i)));
   w.ApplyPlan(Plan(ps));
   int checks = 0, failures = 0;
   w.SetSubstepObserver([&](int) {
@@ -220,7 +221,8 @@ TEST(Coupling, SlicesShareOnePoseAfterEverySubstep) {
   });
   for (int f = 0; f < 40; ++f) {
     std::vector<PlannedParticle> moves;
-    for (int i = 0; i < 20; ++i) moves.push_back(test::Reuse(i + 1, Vec2(39 - 0.5 * f, 18 + 0.5 * i)));
+    for (int i = 0; i < 20; ++i)
+      moves.push_back(test::Reuse(i + 1, Vec2(39 - 0.5 * f, 18 + 0.5 * i)));
     w.ApplyPlan(Plan(moves));
     w.StepFrame();
   }

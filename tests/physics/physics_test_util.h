@@ -11,8 +11,8 @@
 namespace pg::test {
 
 /// A box of the given size, centred at (x, y).
-inline ObjectSpec Box(const std::string& name, double x, double y, double sx = 4.0,
-                      double sy = 4.0, double height = 2.0) {
+inline ObjectSpec Box(const std::string& name, double x, double y, double sx = 4.0, double sy = 4.0,
+                      double height = 2.0) {
   ObjectSpec s;
   s.name = name;
   s.shape = ObjectShape::kBox;
@@ -24,8 +24,7 @@ inline ObjectSpec Box(const std::string& name, double x, double y, double sx = 4
 }
 
 /// A cylinder of radius r centred at (x, y).
-inline ObjectSpec Cylinder(const std::string& name, double x, double y, double r,
-                           double height) {
+inline ObjectSpec Cylinder(const std::string& name, double x, double y, double r, double height) {
   ObjectSpec s;
   s.name = name;
   s.shape = ObjectShape::kCylinder;

@@ -1,1 +1,2 @@
 proxygrasp_test(physics coupling)
+proxygrasp_test(physics particles)

@@ -14,10 +14,10 @@ namespace pg {
 
 /// Mass properties of an object's full 3D shape.
 struct MassProps {
-  double volume = 0.0;               ///< cm^3
-  double mass = 0.0;                 ///< g
-  double inertia = 0.0;              ///< about the vertical axis through the centroid, g cm^2
-  Vec2 centroid = Vec2::Zero();      ///< centre of mass in the local frame, cm
+  double volume = 0.0;           ///< cm^3
+  double mass = 0.0;             ///< g
+  double inertia = 0.0;          ///< about the vertical axis through the centroid, g cm^2
+  Vec2 centroid = Vec2::Zero();  ///< centre of mass in the local frame, cm
 };
 
 /// A horizontal cross-section: a circle about the local origin or a polygon.
@@ -57,7 +57,8 @@ CrossSection Footprint(const ObjectSpec& spec);
 double SurfaceHeightAt(const ObjectSpec& spec, const Vec2& p);
 
 /// Signed distance of the local point p to the footprint's boundary: > 0 inside, cm.
-double FootprintSignedDistance(const ObjectSpec& spec, const CrossSection& footprint, const Vec2& p);
+double FootprintSignedDistance(const ObjectSpec& spec, const CrossSection& footprint,
+                               const Vec2& p);
 
 /// The point of the footprint's boundary nearest to the local point p, cm.
 Vec2 NearestFootprintPoint(const CrossSection& footprint, const Vec2& p);
