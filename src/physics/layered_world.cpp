@@ -3,6 +3,7 @@
 #include "world_impl.h"
 
 #include "proxygrasp/core/text.h"
+#include "proxygrasp/core/units.h"
 
 #include <algorithm>
 #include <cmath>
@@ -343,38 +344,58 @@ double LayeredWorld::FootprintDepth(const Vec2& p, double* topHeight) const {
 Vec2 LayeredWorld::NearestOutside(const Vec2& p) const {
   const auto& objects = m_impl->objects;
   constexpr double kEps = 1e-6;  // how far outside the boundary the answer lies, cm
-  auto containing = [&](const Vec2& q) -> int {
-    for (int i = 0; i < static_cast<int>(objects.size()); ++i) {
-      const ObjectData& o = objects[i];
-      if (FootprintSignedDistance(o.spec, o.footprint, o.Pose().Inverse(q)) > -kEps / 2) return i;
+  auto inside = [&](const Vec2& q) {
+    for (const ObjectData& o : objects) {
+      if (FootprintSignedDistance(o.spec, o.footprint, o.Pose().Inverse(q)) > -kEps / 2) {
+        return true;
+      }
     }
-    return -1;
+    return false;
   };
-  // candidates: p projected out of every footprint; the nearest one that is free wins, and an
-  // occupied one is projected again (overlapping footprints)
-  std::vector<Vec2> frontier = {p};
+  if (!inside(p)) return p;
   Vec2 best = p;
   double bestD = 1e300;
-  for (int round = 0; round < 4 && !frontier.empty(); ++round) {
-    std::vector<Vec2> next;
-    for (const Vec2& q : frontier) {
-      const int in = containing(q);
-      if (in < 0) {
-        if ((q - p).norm() < bestD) {
-          bestD = (q - p).norm();
-          best = q;
-        }
-        continue;
-      }
-      const ObjectData& o = objects[in];
-      const Pose2 pose = o.Pose();
-      const Vec2 local = pose.Inverse(q);
-      const Vec2 edge = NearestFootprintPoint(o.footprint, local);
-      Vec2 out = edge - local;
-      out = out.norm() > 1e-12 ? Vec2(out.normalized()) : Vec2(1.0, 0.0);
-      next.push_back(pose.Apply(edge + kEps * out));
+  auto consider = [&](const Vec2& q) {
+    const double d = (q - p).norm();
+    if (d < bestD && !inside(q)) {
+      bestD = d;
+      best = q;
     }
-    frontier = std::move(next);
+  };
+  // p projected out through each footprint's nearest edge; any free point lies at least as far
+  // as the deepest footprint holding p is deep, so a free candidate that close is the answer
+  double lowerBound = 0.0;
+  for (const ObjectData& o : objects) {
+    const Pose2 pose = o.Pose();
+    const Vec2 local = pose.Inverse(p);
+    lowerBound = std::max(lowerBound, FootprintSignedDistance(o.spec, o.footprint, local));
+    const Vec2 edge = NearestFootprintPoint(o.footprint, local);
+    const Vec2 out = FootprintSignedDistance(o.spec, o.footprint, local) > 0 ? Vec2(edge - local)
+                                                                             : Vec2(local - edge);
+    consider(pose.Apply(edge + kEps * (out.norm() > 1e-12 ? Vec2(out.normalized()) : Vec2(1, 0))));
+  }
+  if (bestD <= lowerBound + 2 * kEps) return best;
+  // overlapping footprints need a search: march out along 64 rays and bisect the first free
+  // point on each
+  constexpr int kRays = 64;
+  constexpr double kStep = 0.05, kReach = 200.0;  // cm
+  for (int i = 0; i < kRays; ++i) {
+    const double a = 2.0 * kPi * i / kRays;
+    const Vec2 dir(std::cos(a), std::sin(a));
+    double lo = 0.0, hi = -1.0;
+    for (double t = kStep; t < std::min(kReach, bestD + kStep); t += kStep) {
+      if (!inside(p + t * dir)) {
+        hi = t;
+        break;
+      }
+      lo = t;
+    }
+    if (hi < 0) continue;
+    for (int k = 0; k < 40; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (inside(p + mid * dir) ? lo : hi) = mid;
+    }
+    consider(p + hi * dir);
   }
   return best;
 }

@@ -175,10 +175,10 @@ Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params) {
                                 Num(kMinEdge) + " cm");
         }
       }
+      if (!IsSimple(c)) return FieldError(spec, "points", "outline crosses itself");
       if (std::abs(SignedArea(c)) < 0.01) {
         return FieldError(spec, "points", "outline has no area (" + Num(SignedArea(c)) + " cm^2)");
       }
-      if (!IsSimple(c)) return FieldError(spec, "points", "outline crosses itself");
       const Contour ccw = DropCollinear(MakeCounterClockwise(c));
       if (spec.shape == ObjectShape::kConvexPrism && !IsConvexCcw(ccw)) {
         return FieldError(spec, "points", "outline is not convex (use shape = \"concave_prism\")");

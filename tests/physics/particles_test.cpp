@@ -35,7 +35,8 @@ TEST(KinematicControl, FreeParticleReachesEachTargetByFrameEnd) {
     // F = m((x* - x)/dt - v)/dt reaches x* in one substep; float positions (1e-5 cm at 30 cm)
     for (int s = 0; s < p.substeps; ++s) {
       const Vec2 expected = prev + (s + 1.0) / p.substeps * (target - prev);
-      EXPECT_NEAR((substepPos[s] - expected).norm(), 0.0, 1e-4) << "frame " << f << " substep " << s;
+      EXPECT_NEAR((substepPos[s] - expected).norm(), 0.0, 1e-4)
+          << "frame " << f << " substep " << s;
     }
   }
 }
@@ -49,7 +50,8 @@ TEST(KinematicControl, ParticlesNeverCollideWithEachOther) {
   w.ApplyPlan(Plan({Create(1, Vec2(17, 20), Vec2(20, 20)), Create(2, Vec2(23, 20), Vec2(20, 20)),
                     Create(3, Vec2(20, 23), Vec2(20, 20))}));
   w.StepFrame();
-  for (const ParticleState& s : w.Particles()) EXPECT_NEAR((s.pos - Vec2(20, 20)).norm(), 0.0, 1e-4);
+  for (const ParticleState& s : w.Particles())
+    EXPECT_NEAR((s.pos - Vec2(20, 20)).norm(), 0.0, 1e-4);
 }
 
 // runs a particle at `speed` towards a 1 cm thick heavy wall and reports whether it ever got past
@@ -227,7 +229,8 @@ TEST(Support, ParticleFallsOntoLowerObjectAndNeverClimbs) {
   // one particle steps from the tall box onto the low one in one frame (across the hairline
   // gap Box2D's polygon skins leave between them); another walks from the table into the
   // low box's side
-  w.ApplyPlan(Plan({Create(1, Vec2(21, 23), Vec2(21, 23), 4.0), Create(2, Vec2(29, 23), Vec2(29, 23))}));
+  w.ApplyPlan(
+      Plan({Create(1, Vec2(21, 23), Vec2(21, 23), 4.0), Create(2, Vec2(29, 23), Vec2(29, 23))}));
   EXPECT_EQ(w.Particles()[0].baseLayer, 4);
   EXPECT_EQ(w.Particles()[1].baseLayer, 0);
   for (int f = 1; f <= 30; ++f) {
@@ -259,7 +262,8 @@ TEST(Stacks, StackSizeAndCapsuleFillTheirLayers) {
   MustBuild(w, p, {box});
   const int slices = w.BodyCount();
   EXPECT_EQ(slices, 6);
-  w.ApplyPlan(Plan({Create(1, Vec2(10, 10), Vec2(10, 10)), Create(2, Vec2(30, 23), Vec2(30, 23), 6.0)}));
+  w.ApplyPlan(
+      Plan({Create(1, Vec2(10, 10), Vec2(10, 10)), Create(2, Vec2(30, 23), Vec2(30, 23), 6.0)}));
   std::vector<ParticleState> s = w.Particles();
   EXPECT_EQ(s[0].baseLayer, 0);
   EXPECT_EQ(s[0].layerCount, 3);
