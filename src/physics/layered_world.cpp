@@ -204,8 +204,9 @@ Status LayeredWorld::Build(const PhysicsParams& physics, const TableParams& tabl
     }
     w.objects.push_back(std::move(o));
   }
-  for (ObjectData& o : w.objects) w.WriteBack(o);
+  // mass data first: it sets the slices' centre of mass, which the written pose refers to
   w.PrepareMassSplitting();
+  for (ObjectData& o : w.objects) w.WriteBack(o);
   return std::nullopt;
 }
 
@@ -303,7 +304,11 @@ void LayeredWorld::StepFrame() {
 
 void LayeredWorld::ApplyForce(int object, const Vec2& force, const Vec2& worldPoint, int layer) {
   Impl& w = *m_impl;
-  assert(object >= 0 && object < ObjectCount() && "object index out of range");
+  // bad pushes are counted and dropped, never simulated
+  if (object < 0 || object >= ObjectCount() || !force.allFinite() || !worldPoint.allFinite()) {
+    ++w.planErrors;
+    return;
+  }
   ObjectData& o = w.objects[object];
   Push p;
   p.force = force;

@@ -188,7 +188,8 @@ struct Busy {
       const double r = 12.0 - 0.08 * f;
       for (int i = 0; i < 60; ++i) {
         const double a = 2 * kPi * i / 60 + 0.02 * f;
-        const Vec2 at = c + r * Vec2(std::cos(a), std::sin(a)) + 0.05 * Vec2(rng.Uniform(), rng.Uniform());
+        const Vec2 at =
+            c + r * Vec2(std::cos(a), std::sin(a)) + 0.05 * Vec2(rng.Uniform(), rng.Uniform());
         const int slot = ring * 60 + i;
         if (f == 0) {
           ids.push_back(nextId);

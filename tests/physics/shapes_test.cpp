@@ -192,7 +192,8 @@ TEST(Decompose, PiecesAreConvexSmallAndCoverThePolygon) {
   std::vector<Contour> polys;
   polys.push_back(ToContour(LShape()));
   Contour ngon(2, 20), star(2, 10);
-  for (int i = 0; i < 20; ++i) ngon.col(i) = 3.0 * Vec2(std::cos(i * kPi / 10), std::sin(i * kPi / 10));
+  for (int i = 0; i < 20; ++i)
+    ngon.col(i) = 3.0 * Vec2(std::cos(i * kPi / 10), std::sin(i * kPi / 10));
   for (int i = 0; i < 10; ++i) {
     const double r = i % 2 == 0 ? 3.0 : 1.2;
     star.col(i) = r * Vec2(std::cos(i * kPi / 5), std::sin(i * kPi / 5));

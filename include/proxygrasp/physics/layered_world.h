@@ -44,7 +44,7 @@ class LayeredWorld : public SceneQuery {
 
   /// An external force, dyn, at a table point, cm, acting through the object's slice in `layer`
   /// for every substep of the next frame. Layers the object does not occupy are clamped to its
-  /// top slice.
+  /// top slice; an unknown object or a non-finite value is counted (PlanErrors) and dropped.
   void ApplyForce(int object, const Vec2& force, const Vec2& worldPoint, int layer);
 
   // SceneQuery, answered from the state after the last frame.
@@ -70,7 +70,8 @@ class LayeredWorld : public SceneQuery {
   int BodyCount() const;
   /// Frames stepped since Build.
   int64_t Frame() const;
-  /// Plan entries that were skipped because they named unknown or duplicate particles.
+  /// Inputs that were skipped: plan entries naming unknown or duplicate particles or holding
+  /// non-finite positions, and pushes on unknown objects or with non-finite values.
   int PlanErrors() const;
   /// The parameters it was built with.
   const PhysicsParams& Params() const;

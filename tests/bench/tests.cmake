@@ -1,0 +1,1 @@
+proxygrasp_bench(physics LIBS pg_physics)
