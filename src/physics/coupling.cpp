@@ -198,8 +198,8 @@ void LayeredWorld::Impl::Couple() {
 }
 
 void LayeredWorld::Impl::WriteBack(ObjectData& o) {
-  const Pose2 pose = o.Pose();
-  const b2Vec2 origin = ToB2(pose.pos);
+  o.CachePose();
+  const b2Vec2 origin = ToB2(o.pose.pos);
   const float angle = static_cast<float>(o.angle);
   const b2Vec2 v = ToB2(o.vel);
   const float om = static_cast<float>(o.omega);

@@ -90,10 +90,16 @@ void HashValue(uint64_t& h, T v) {
 }  // namespace
 
 Pose2 ObjectData::Pose() const {
-  Pose2 pose;
-  pose.angle = angle;
-  pose.pos = center - Rotate(props.centroid, angle);
-  return pose;
+  Pose2 p;
+  p.angle = angle;
+  p.pos = center - Rotate(props.centroid, angle);
+  return p;
+}
+
+void ObjectData::CachePose() {
+  pose = Pose();
+  cosA = std::cos(angle);
+  sinA = std::sin(angle);
 }
 
 LayeredWorld::LayeredWorld() : m_impl(std::make_unique<Impl>()) {
@@ -320,9 +326,8 @@ void LayeredWorld::ApplyForce(int object, const Vec2& force, const Vec2& worldPo
 double LayeredWorld::TopHeightAt(const Vec2& p) const {
   double best = 0.0;
   for (const ObjectData& o : m_impl->objects) {
-    const Vec2 local = o.Pose().Inverse(p);
-    if (local.norm() > o.boundRadius) continue;
-    best = std::max(best, SurfaceHeightAt(o.spec, local));
+    if (!o.MayHold(p)) continue;
+    best = std::max(best, SurfaceHeightAt(o.spec, o.ToLocal(p)));
   }
   return best;
 }
@@ -330,7 +335,7 @@ double LayeredWorld::TopHeightAt(const Vec2& p) const {
 double LayeredWorld::FootprintDepth(const Vec2& p, double* topHeight) const {
   double depth = -1e300, top = 0.0, bestTop = -1.0;
   for (const ObjectData& o : m_impl->objects) {
-    const double d = FootprintSignedDistance(o.spec, o.footprint, o.Pose().Inverse(p));
+    const double d = FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(p));
     if (d > 0) {
       // inside: the highest object wins
       if (o.top > bestTop) {
@@ -351,7 +356,7 @@ Vec2 LayeredWorld::NearestOutside(const Vec2& p) const {
   constexpr double kEps = 1e-6;  // how far outside the boundary the answer lies, cm
   auto inside = [&](const Vec2& q) {
     for (const ObjectData& o : objects) {
-      if (FootprintSignedDistance(o.spec, o.footprint, o.Pose().Inverse(q)) > -kEps / 2) {
+      if (FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(q)) > -kEps / 2) {
         return true;
       }
     }
@@ -371,8 +376,8 @@ Vec2 LayeredWorld::NearestOutside(const Vec2& p) const {
   // as the deepest footprint holding p is deep, so a free candidate that close is the answer
   double lowerBound = 0.0;
   for (const ObjectData& o : objects) {
-    const Pose2 pose = o.Pose();
-    const Vec2 local = pose.Inverse(p);
+    const Pose2& pose = o.pose;
+    const Vec2 local = o.ToLocal(p);
     lowerBound = std::max(lowerBound, FootprintSignedDistance(o.spec, o.footprint, local));
     const Vec2 edge = NearestFootprintPoint(o.footprint, local);
     const Vec2 out = FootprintSignedDistance(o.spec, o.footprint, local) > 0 ? Vec2(edge - local)
@@ -427,7 +432,7 @@ ObjectState LayeredWorld::Object(int i) const {
   const ObjectData& o = m_impl->objects[i];
   ObjectState s;
   s.name = o.spec.name;
-  s.pose = o.Pose();
+  s.pose = o.pose;
   s.velocity = o.vel;
   s.angularVelocity = o.omega;
   s.centerOfMass = o.center;

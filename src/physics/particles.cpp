@@ -8,6 +8,17 @@
 
 namespace pg {
 
+namespace {
+
+bool Touching(b2Body* body) {
+  for (b2ContactEdge* e = body->GetContactList(); e != nullptr; e = e->next) {
+    if (e->contact->IsTouching()) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 int LayeredWorld::Impl::LayerOf(double z) const {
   const int k = static_cast<int>(std::lround(z / params.layerHeight));
   return std::clamp(k, 0, LayerCount() - 1);
@@ -28,9 +39,8 @@ void LayeredWorld::Impl::FindSupport(const Vec2& p, int maxLayer, int* layer, do
   if (LayerCount() < 2) return;
   for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
     const ObjectData& o = objects[oi];
-    const Vec2 local = o.Pose().Inverse(p);
-    if (local.norm() > o.boundRadius) continue;
-    const double h = SurfaceHeightAt(o.spec, local);
+    if (!o.MayHold(p)) continue;
+    const double h = SurfaceHeightAt(o.spec, o.ToLocal(p));
     if (h < 0) continue;
     const int k = SupportLayer(oi, h);
     if (k > maxLayer) continue;
@@ -47,8 +57,8 @@ int LayeredWorld::Impl::CreationLayer(const Vec2& p, double baseHeight) const {
   if (baseHeight <= 0 || LayerCount() < 2) return k;
   // resting on an object's surface at that height: use the layer above its slices
   for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
-    const Vec2 local = objects[oi].Pose().Inverse(p);
-    const double h = SurfaceHeightAt(objects[oi].spec, local);
+    if (!objects[oi].MayHold(p)) continue;
+    const double h = SurfaceHeightAt(objects[oi].spec, objects[oi].ToLocal(p));
     if (h >= 0 && LayerOf(h) == LayerOf(baseHeight)) k = std::max(k, SupportLayer(oi, h));
   }
   return k;
@@ -103,9 +113,9 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       const Vec2 force = m * ((goal - x) / dt - v) / dt;
       b->ApplyForceToCenter(ToB2(force), true);
       // continuous collision only when a step could carry the body past a surface: a body moving
-      // less than its radius per step is caught by the ordinary contact; the TOI sub-steps would
-      // otherwise disturb the steady contact forces of a squeeze
-      b->SetBullet((goal - x).norm() > params.particleRadius);
+      // less than its radius per step, or already pressing on a surface, is held by the ordinary
+      // contact; time-of-impact sub-steps would only disturb the contact forces and cost time
+      b->SetBullet((goal - x).norm() > params.particleRadius && !Touching(b));
     }
   }
 }

@@ -118,7 +118,23 @@ struct ObjectData {
   int particlesOnTop = 0;
   std::vector<Push> pushes;
 
+  // the pose of the local frame, cached at every write-back
+  Pose2 pose;
+  double cosA = 1.0, sinA = 0.0;
+
+  /// The pose of the local frame computed from the centre of mass and angle.
   Pose2 Pose() const;
+  /// Caches pose, cosA and sinA from the coupled state.
+  void CachePose();
+  /// A table point in the local frame (cached pose).
+  Vec2 ToLocal(const Vec2& p) const {
+    const Vec2 d = p - pose.pos;
+    return Vec2(cosA * d.x() + sinA * d.y(), -sinA * d.x() + cosA * d.y());
+  }
+  /// Quick test that a table point may lie over the footprint (cached pose).
+  bool MayHold(const Vec2& p) const {
+    return (p - pose.pos).squaredNorm() <= boundRadius * boundRadius;
+  }
 };
 
 /// One particle stack.
