@@ -144,6 +144,9 @@ TEST(Plan, UnknownAndDuplicateEntriesAreCountedAndSkipped) {
   ASSERT_EQ(fb.size(), 1u);
   EXPECT_EQ(fb[0].id, 1);
   EXPECT_EQ(fb[0].pos, Vec2(5, 5));
+  // bad pushes are counted and dropped too
+  w.ApplyForce(3, Vec2(1, 0), Vec2(0, 0), 0);
+  EXPECT_EQ(w.PlanErrors(), 4);
   // a particle created high above the empty table falls to it at once
   w.ApplyPlan(Plan({Create(2, Vec2(8, 8), Vec2(8, 8), 3.0)}));
   EXPECT_EQ(w.Particles()[1].baseLayer, 0);

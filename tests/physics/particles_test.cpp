@@ -199,6 +199,29 @@ TEST(TopFriction, ParticleOnTopDragsObjectAtKineticForceThenMatchesIt) {
   EXPECT_NEAR(forces.topNormal, p.particleDownForce, 1e-9);
 }
 
+TEST(TopFriction, RestingParticlesAddTheirDownForceToTableNormal) {
+  PhysicsParams p;
+  ObjectSpec box = Box("loaded", 20, 23);
+  box.particleFriction = 0.0;  // no top friction: only the added weight acts
+  box.velocity = Vec2(40, 0);
+  LayeredWorld w;
+  MustBuild(w, p, {box});
+  // two particles ride on the top; the box slides about 2.2 cm under them (its back edge
+  // reaches x = 20.2, short of them)
+  w.ApplyPlan(Plan({Create(1, Vec2(21.5, 22), Vec2(21.5, 22), 2.0),
+                    Create(2, Vec2(21.5, 24), Vec2(21.5, 24), 2.0)}));
+  const double M = w.Object(0).mass;
+  w.StepFrame();
+  const double v1 = w.Object(0).velocity.x();
+  for (int f = 0; f < 4; ++f) w.StepFrame();
+  const double v2 = w.Object(0).velocity.x();
+  ASSERT_GT(v2, 0.0);
+  EXPECT_EQ(w.Object(0).particlesOnTop, 2);
+  // N = M g + 2 Fd: the deceleration is mu_k N / M, exact per substep
+  const double a = 0.3 * (M * g + 2 * p.particleDownForce) / M;
+  EXPECT_NEAR((v1 - v2) / (4.0 / 60.0), a, 0.01 * a);
+}
+
 TEST(Support, ParticleFallsToTableWhenBoxSlidesAway) {
   PhysicsParams p;
   ObjectSpec box = Box("sled", 20, 23);
