@@ -170,12 +170,19 @@ void LayeredWorld::Impl::Couple() {
     o.topNormal += topForce * dt;
     o.particlesOnTop = static_cast<int>(onTop[oi].size());
 
+    // this substep's displacement follows the velocity the contacts and top friction left
+    Vec2 move = vel * dt + corr;
+    double turn = omega * dt + corrA;
+
     // table friction with the full mass: static holds when the impulse that stops the object
-    // fits under mu_s N dt, else kinetic friction takes mu_k N dt off the momentum
+    // fits under mu_s N dt, and then the substep's displacement is undone; otherwise kinetic
+    // friction takes mu_k N dt off the momentum for the next substep (taking it off this
+    // substep's displacement too would make a carried object slip out of a steady grip)
     const double N = M * g + topForce;
     const double speed = vel.norm();
     if (M * speed <= o.spec.tableStatic * N * dt) {
       vel.setZero();
+      move = corr;
     } else {
       vel *= std::max(0.0, speed - o.spec.tableKinetic * N * dt / M) / speed;
     }
@@ -183,14 +190,14 @@ void LayeredWorld::Impl::Couple() {
       const double spin = std::abs(omega);
       if (I * spin <= o.spec.tableStatic * N * o.rEff * dt) {
         omega = 0.0;
+        turn = corrA;
       } else {
         omega *= std::max(0.0, spin - o.spec.tableKinetic * N * o.rEff * dt / I) / spin;
       }
     }
 
-    // positions follow the final velocities (symplectic Euler, as Box2D integrates)
-    o.center += vel * dt + corr;
-    o.angle += omega * dt + corrA;
+    o.center += move;
+    o.angle += turn;
     o.vel = vel;
     o.omega = omega;
     WriteBack(o);
