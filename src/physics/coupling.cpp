@@ -142,7 +142,7 @@ void LayeredWorld::Impl::Couple() {
     }
     Vec2 vel = o.vel + dv;
     double omega = o.omega + dw;
-    const Vec2 centerNoFriction = o.center + vel * dt + corr;
+    const Vec2 centerAfterStep = o.center + vel * dt + corr;
 
     // top friction: each resting particle drags the surface point under it (Coulomb, static
     // then kinetic), Gauss-Seidel over the particles in creation order
@@ -151,10 +151,10 @@ void LayeredWorld::Impl::Couple() {
       ParticleData& p = particles[pi];
       b2Body* base = p.bodies.front();
       const Vec2 x = FromB2(base->GetPosition());
-      const Vec2 r = x - centerNoFriction;
+      const Vec2 r = x - centerAfterStep;
       const Vec2 surface = vel + omega * Vec2(-r.y(), r.x());
       const Vec2 rel = FromB2(base->GetLinearVelocity()) - surface;
-      // effective mass of the object at the point: K = I/M + [r_perp r_perp^T] / I
+      // inverse effective mass of the object at the point: K = 1/M + r_perp r_perp^T / I
       Eigen::Matrix2d K;
       K << 1.0 / M + r.y() * r.y() / I, -r.x() * r.y() / I, -r.x() * r.y() / I,
           1.0 / M + r.x() * r.x() / I;
