@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace pg {
@@ -151,6 +152,58 @@ TEST(Plan, UnknownAndDuplicateEntriesAreCountedAndSkipped) {
   w.ApplyPlan(Plan({Create(2, Vec2(8, 8), Vec2(8, 8), 3.0)}));
   EXPECT_EQ(w.Particles()[1].baseLayer, 0);
   EXPECT_EQ(w.Particles()[1].baseHeight, 0.0);
+}
+
+TEST(Plan, RandomCreateReuseDeleteKeepsBookkeepingConsistent) {
+  PhysicsParams p;
+  p.stackSize = 2;
+  LayeredWorld w;
+  MustBuild(w, p, {Box("a", 20, 20, 4, 4, 3.0), test::Cylinder("b", 35, 25, 2.0, 5.0)});
+  const int slices = w.BodyCount();
+  Rng rng(11);
+  std::vector<ParticleId> alive;
+  int nextId = 1;
+  for (int f = 0; f < 120; ++f) {
+    ParticlePlan plan;
+    std::vector<ParticleId> keep;
+    for (ParticleId id : alive) {
+      const Vec2 at(rng.Uniform(10, 50), rng.Uniform(10, 36));
+      if (rng.Uniform() < 0.1) {
+        plan.particles.push_back(test::Delete(id));
+      } else {
+        // small steps, sometimes into the objects
+        const ParticleState s =
+            w.Particles()[std::distance(alive.begin(), std::find(alive.begin(), alive.end(), id))];
+        plan.particles.push_back(Reuse(id, s.target + 0.3 * (at - s.target).normalized()));
+        keep.push_back(id);
+      }
+    }
+    for (int i = 0; i < 8; ++i) {
+      const Vec2 at(rng.Uniform(10, 50), rng.Uniform(10, 36));
+      plan.particles.push_back(Create(nextId, at, at, w.TopHeightAt(at)));
+      keep.push_back(nextId++);
+    }
+    w.ApplyPlan(plan);
+    if (f % 7 == 0)
+      w.ApplyForce(f % 2, Vec2(rng.Uniform(-5e4, 5e4), rng.Uniform(-5e4, 5e4)),
+                   w.Object(f % 2).centerOfMass, f % 3);
+    w.StepFrame();
+    alive = keep;
+    // every stack is listed once in creation order, with its bodies counted
+    const std::vector<ParticleState> ps = w.Particles();
+    ASSERT_EQ(ps.size(), alive.size());
+    int bodies = slices;
+    for (size_t i = 0; i < ps.size(); ++i) {
+      ASSERT_EQ(ps[i].id, alive[i]);
+      ASSERT_TRUE(ps[i].pos.allFinite());
+      ASSERT_EQ(ps[i].layerCount, std::min(p.stackSize, p.layers - ps[i].baseLayer));
+      bodies += ps[i].layerCount;
+    }
+    ASSERT_EQ(w.BodyCount(), bodies);
+    ASSERT_TRUE(w.SlicesAgree());
+    for (int i = 0; i < w.ObjectCount(); ++i) ASSERT_TRUE(w.Object(i).pose.pos.allFinite());
+  }
+  EXPECT_EQ(w.PlanErrors(), 0);
 }
 
 // a busy scene: objects of every shape, two rings of stacked particles sweeping through them

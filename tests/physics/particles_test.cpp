@@ -168,6 +168,20 @@ TEST(Squeeze, DeeperPenetrationHoldsAgainstHarderPush) {
   EXPECT_LT(deep.Push(F, 60), 0.1);
 }
 
+TEST(Squeeze, OneSidedPushIsNotHeld) {
+  PhysicsParams p;
+  LayeredWorld w;
+  MustBuild(w, p, {Box("pushed", 30, 23)});
+  std::vector<PlannedParticle> ps;
+  for (int i = 0; i < 3; ++i) ps.push_back(Create(i + 1, Vec2(27.5, 22 + i), Vec2(28.0, 22 + i)));
+  w.ApplyPlan(Plan(ps));
+  for (int f = 0; f < 10; ++f) w.StepFrame();
+  // pressing from one side only: contacts with force but no opposing pair
+  EXPECT_GT(w.Forces(0).total.normalMagnitude, 0.0);
+  EXPECT_GT(w.Forces(0).total.normal.x(), 0.0);
+  EXPECT_FALSE(w.Object(0).held);
+}
+
 TEST(Squeeze, GripCarriesTheObjectAcrossTheTable) {
   // the grasp of the paper: both rows keep their squeeze and move 15 cm along y in 1.5 s
   Squeeze sq(0.15);
