@@ -175,7 +175,14 @@ TEST(Squeeze, OneSidedPushIsNotHeld) {
   std::vector<PlannedParticle> ps;
   for (int i = 0; i < 3; ++i) ps.push_back(Create(i + 1, Vec2(27.5, 22 + i), Vec2(28.0, 22 + i)));
   w.ApplyPlan(Plan(ps));
-  for (int f = 0; f < 10; ++f) w.StepFrame();
+  // the row keeps pushing the box along at 12 cm/s
+  for (int f = 1; f <= 10; ++f) {
+    std::vector<PlannedParticle> moves;
+    for (int i = 0; i < 3; ++i) moves.push_back(Reuse(i + 1, Vec2(28.0 + 0.2 * f, 22 + i)));
+    w.ApplyPlan(Plan(moves));
+    w.StepFrame();
+  }
+  EXPECT_GT(w.Object(0).velocity.x(), 5.0);
   // pressing from one side only: contacts with force but no opposing pair
   EXPECT_GT(w.Forces(0).total.normalMagnitude, 0.0);
   EXPECT_GT(w.Forces(0).total.normal.x(), 0.0);
