@@ -21,6 +21,12 @@ void Describe(PhysicsParams& p, ParamVisitor& v) {
          "constant downward force per particle");
   v.Real("particle_friction", p.particleFriction, 0, 10, "1",
          "default friction between particles and objects");
+  v.Real("top_kinetic_factor", p.topKineticFactor, 0, 1, "1",
+         "top friction: kinetic coefficient as a fraction of the static one");
+  v.Real("held_opposing_dot", p.heldOpposingDot, -1, 0, "1",
+         "held: contact normals with a dot product below this oppose");
+  v.Real("held_friction_margin", p.heldFrictionMargin, 0, 1, "1",
+         "held: friction below this fraction of its limit is not slipping");
 }
 
 }  // namespace pg

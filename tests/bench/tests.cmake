@@ -1,1 +1,2 @@
 proxygrasp_bench(proxies LIBS pg_proxies)
+proxygrasp_bench(physics LIBS pg_physics)

@@ -3,6 +3,7 @@
 
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/core/geometry.h"
+#include "proxygrasp/core/ids.h"
 #include "proxygrasp/core/params.h"
 #include "proxygrasp/core/table.h"
 
@@ -27,6 +28,11 @@ struct PhysicsParams {
   bool capsule = false;             ///< fill every layer from the base to the top instead of S
   double particleDownForce = 2000;  ///< constant downward force per particle, dyn
   double particleFriction = 0.8;    ///< default particle-to-object friction, non-dimensional
+  double topKineticFactor = 0.75;   ///< top friction: kinetic / static coefficient, non-dimensional
+  double heldOpposingDot = -0.5;    ///< held: contact normals whose dot product is below this
+                                    ///< oppose, non-dimensional
+  double heldFrictionMargin = 0.99;  ///< held: a contact whose friction is below this fraction of
+                                     ///< mu * normal is not sliding, non-dimensional
 };
 
 /// Shapes of virtual objects. All are prisms or solids of revolution about the vertical axis.
@@ -55,6 +61,58 @@ struct ObjectSpec {
   Vec2 velocity = Vec2::Zero();    ///< starting velocity, cm/s
   double angularVelocity = 0.0;    ///< starting angular velocity, rad/s
   SourceLoc loc;                   ///< where the level defines it, for messages
+};
+
+/// Forces an object received from particles in one layer, averaged over the last frame.
+struct LayerForces {
+  Vec2 normal = Vec2::Zero();      ///< vector sum of the normal forces, dyn
+  Vec2 friction = Vec2::Zero();    ///< vector sum of the friction forces, dyn
+  double normalMagnitude = 0.0;    ///< sum of the normal force magnitudes, dyn
+  double frictionMagnitude = 0.0;  ///< sum of the friction force magnitudes, dyn
+  int contacts = 0;                ///< particle contact points in the frame's last substep
+};
+
+/// Forces an object received from particles over the last frame, by layer and in total.
+struct ObjectForces {
+  std::vector<LayerForces> layers;  ///< one entry per layer (K), from the side contacts
+  LayerForces total;                ///< the sum over layers
+  Vec2 topFriction = Vec2::Zero();  ///< friction from particles resting on its top, dyn
+  double topNormal = 0.0;           ///< downward force of particles resting on its top, dyn
+};
+
+/// The state of one object after the last frame.
+struct ObjectState {
+  std::string name;
+  Pose2 pose;                        ///< pose of the object's local frame, cm and rad
+  Vec2 velocity = Vec2::Zero();      ///< velocity of the centre of mass, cm/s
+  double angularVelocity = 0.0;      ///< rad/s, counter-clockwise
+  Vec2 centerOfMass = Vec2::Zero();  ///< in the table frame, cm
+  bool held = false;                 ///< held by opposing particle contacts without slipping
+  double topHeight = 0.0;            ///< height of its top, cm
+  double mass = 0.0;                 ///< of the full 3D shape, g
+  double inertia = 0.0;              ///< about the vertical axis through the centre, g cm^2
+  int layerCount = 0;                ///< layers 0 .. layerCount-1 hold its slices
+  int particlesOnTop = 0;            ///< particles resting on its top
+};
+
+/// The cross-section of an object in one layer, in the object's local frame, for drawing.
+struct SliceOutline {
+  int layer = 0;
+  double z = 0.0;               ///< height of the cross-section, cm
+  Contour outline;              ///< counter-clockwise (circles as a 32-gon), cm
+  std::vector<Contour> pieces;  ///< the convex pieces Box2D simulates (circles: the outline)
+};
+
+/// The state of one particle stack after the last frame.
+struct ParticleState {
+  ParticleId id = kNoId;
+  ContactId contact = kNoId;
+  Vec2 pos = Vec2::Zero();     ///< base body position, cm
+  Vec2 target = Vec2::Zero();  ///< where kinematic control drives it this frame, cm
+  double baseHeight = 0.0;     ///< height of the surface it rests on, cm
+  int baseLayer = 0;           ///< layer of its lowest body
+  int layerCount = 0;          ///< bodies in the stack (consecutive layers from the base)
+  int restingOn = -1;          ///< object index it rests on, -1 for the table
 };
 
 void Describe(PhysicsParams& p, ParamVisitor& v);

@@ -1,0 +1,95 @@
+// The physics stage: one Box2D world per height layer. Objects are rigid bodies with one slice
+// (a Box2D body) per layer they occupy; after every substep the slices are coupled back into one
+// pose and velocity by mass splitting, and table friction, top friction and particle support are
+// applied. Particles are stacks of circle bodies driven by kinematic control (Wilson, ITS 2009).
+// See docs/physics.md.
+#pragma once
+
+#include "proxygrasp/core/error.h"
+#include "proxygrasp/core/table.h"
+#include "proxygrasp/physics/types.h"
+#include "proxygrasp/proxies/types.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace pg {
+
+/// The layered simulation. Answers the proxies' SceneQuery from its state after the last frame.
+class LayeredWorld : public SceneQuery {
+ public:
+  LayeredWorld();
+  ~LayeredWorld() override;
+  LayeredWorld(LayeredWorld&&) noexcept;
+  LayeredWorld& operator=(LayeredWorld&&) noexcept;
+
+  /// Validates the parameters and objects and builds the K layer worlds, walls and slices,
+  /// replacing anything built before. Bad specs give an Error at spec.loc naming object and field;
+  /// on error the world is left empty.
+  Status Build(const PhysicsParams& physics, const TableParams& table,
+               std::span<const ObjectSpec> objects);
+
+  /// Applies one frame's particle plan: creates stacks (at start, base layer from baseHeight),
+  /// deletes stacks, sets the targets the next StepFrame drives particles to. Entries naming
+  /// unknown particles are skipped and counted (PlanErrors).
+  void ApplyPlan(const ParticlePlan& plan);
+
+  /// Advances one camera frame: substeps of dt = 1 / (frameRate * substeps), each with kinematic
+  /// control, the layer worlds' steps (in parallel when threads > 1), coupling, top and table
+  /// friction and particle support; then the frame's diagnostics.
+  void StepFrame();
+
+  /// An external force, dyn, at a table point, cm, acting through the object's slice in `layer`
+  /// for every substep of the next frame. Layers the object does not occupy are clamped to its
+  /// top slice; an unknown object or a non-finite value is counted (PlanErrors) and dropped.
+  void ApplyForce(int object, const Vec2& force, const Vec2& worldPoint, int layer);
+
+  // SceneQuery, answered from the state after the last frame.
+  double TopHeightAt(const Vec2& p) const override;
+  double FootprintDepth(const Vec2& p, double* topHeight) const override;
+  Vec2 NearestOutside(const Vec2& p) const override;
+
+  /// Where every particle is after the last frame, in creation order.
+  std::vector<ParticleFeedback> Feedback() const;
+  /// Number of objects.
+  int ObjectCount() const;
+  /// The state of object i after the last frame.
+  ObjectState Object(int i) const;
+  /// The forces object i received from particles during the last frame.
+  ObjectForces Forces(int i) const;
+  /// The slices of object i, lowest layer first, in its local frame.
+  std::vector<SliceOutline> Slices(int i) const;
+  /// Every particle stack, in creation order.
+  std::vector<ParticleState> Particles() const;
+  /// Number of particle stacks.
+  int ParticleCount() const;
+  /// Box2D bodies in all layers: object slices plus particle bodies (walls not counted).
+  int BodyCount() const;
+  /// Frames stepped since Build.
+  int64_t Frame() const;
+  /// Inputs that were skipped: plan entries naming unknown or duplicate particles or holding
+  /// non-finite positions, and pushes on unknown objects or with non-finite values.
+  int PlanErrors() const;
+  /// The parameters it was built with.
+  const PhysicsParams& Params() const;
+
+  /// Hash (FNV-1a) of the exact simulation state: object poses and velocities, every particle
+  /// body's position and velocity, bit for bit. Equal hashes mean identical runs.
+  uint64_t StateHash() const;
+
+  /// Test hook: true when every object's slices share one pose bit for bit right now.
+  bool SlicesAgree() const;
+
+  /// Test hook: called after every substep (coupling included) with the substep index.
+  void SetSubstepObserver(std::function<void(int)> observer);
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace pg

@@ -1,0 +1,562 @@
+#include "proxygrasp/physics/layered_world.h"
+
+#include "world_impl.h"
+
+#include "proxygrasp/core/text.h"
+#include "proxygrasp/core/units.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+namespace pg {
+
+namespace {
+
+Error ParamError(const std::string& key, const std::string& what) {
+  return MakeError(SourceLoc{}, "physics." + key + " " + what);
+}
+
+Status ValidateParams(const PhysicsParams& p, const TableParams& t) {
+  auto range = [](const char* key, double v, double lo, double hi) -> Status {
+    if (!(v >= lo && v <= hi)) {
+      return ParamError(key, "must be in [" + FormatDouble(lo) + ", " + FormatDouble(hi) +
+                                 "] (got " + FormatDouble(v) + ")");
+    }
+    return std::nullopt;
+  };
+  Status s;
+  if ((s = range("frame_rate", p.frameRate, 1, 1000)) ||
+      (s = range("substeps", p.substeps, 1, 64)) ||
+      (s = range("velocity_iterations", p.velocityIterations, 1, 100)) ||
+      (s = range("position_iterations", p.positionIterations, 1, 100)) ||
+      (s = range("threads", p.threads, 1, 16)) ||
+      (s = range("layer_height", p.layerHeight, 0.05, 100)) ||
+      (s = range("layers", p.layers, 1, 16)) || (s = range("gravity", p.gravity, 0, 1e4)) ||
+      (s = range("particle_radius", p.particleRadius, 0.01, 5)) ||
+      (s = range("particle_mass", p.particleMass, 0.001, 1000)) ||
+      (s = range("stack_size", p.stackSize, 1, 16)) ||
+      (s = range("particle_down_force", p.particleDownForce, 0, 1e7)) ||
+      (s = range("particle_friction", p.particleFriction, 0, 10)) ||
+      (s = range("top_kinetic_factor", p.topKineticFactor, 0, 1)) ||
+      (s = range("held_opposing_dot", p.heldOpposingDot, -1, 0)) ||
+      (s = range("held_friction_margin", p.heldFrictionMargin, 0, 1))) {
+    return s;
+  }
+  if (!(t.width > 0 && t.height > 0 && t.wallThickness > 0)) {
+    return MakeError(SourceLoc{}, "table width, height and wall_thickness must be > 0");
+  }
+  return std::nullopt;
+}
+
+b2Body* CreateWalls(b2World& world, const TableParams& t) {
+  b2BodyDef bd;
+  b2Body* walls = world.CreateBody(&bd);
+  const float W = static_cast<float>(t.width), H = static_cast<float>(t.height);
+  const float th = static_cast<float>(t.wallThickness);
+  b2PolygonShape box;
+  b2FixtureDef fd;
+  fd.shape = &box;
+  fd.friction = 0.0f;  // set per contact from the object (LayerListener::PreSolve)
+  fd.filter.categoryBits = kWallBit;
+  fd.filter.maskBits = kObjectBit;
+  fd.userData.pointer = MakeTag(BodyKind::kWall, 0);
+  // left, right, bottom, top; the long ones overlap at the corners
+  box.SetAsBox(th / 2, H / 2 + th, b2Vec2(-th / 2, H / 2), 0.0f);
+  walls->CreateFixture(&fd);
+  box.SetAsBox(th / 2, H / 2 + th, b2Vec2(W + th / 2, H / 2), 0.0f);
+  walls->CreateFixture(&fd);
+  box.SetAsBox(W / 2 + th, th / 2, b2Vec2(W / 2, -th / 2), 0.0f);
+  walls->CreateFixture(&fd);
+  box.SetAsBox(W / 2 + th, th / 2, b2Vec2(W / 2, H + th / 2), 0.0f);
+  walls->CreateFixture(&fd);
+  return walls;
+}
+
+void HashBytes(uint64_t& h, const void* data, size_t n) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < n; ++i) {
+    h ^= p[i];
+    h *= 1099511628211ull;
+  }
+}
+
+template <typename T>
+void HashValue(uint64_t& h, T v) {
+  HashBytes(h, &v, sizeof(v));
+}
+
+}  // namespace
+
+Pose2 ObjectData::Pose() const {
+  Pose2 p;
+  p.angle = angle;
+  p.pos = center - Rotate(props.centroid, angle);
+  return p;
+}
+
+void ObjectData::CachePose() {
+  pose = Pose();
+  cosA = std::cos(angle);
+  sinA = std::sin(angle);
+}
+
+LayeredWorld::LayeredWorld() : m_impl(std::make_unique<Impl>()) {
+  m_impl->pool = std::make_unique<ThreadPool>(1);
+}
+LayeredWorld::~LayeredWorld() = default;
+LayeredWorld::LayeredWorld(LayeredWorld&&) noexcept = default;
+LayeredWorld& LayeredWorld::operator=(LayeredWorld&&) noexcept = default;
+
+Status LayeredWorld::Build(const PhysicsParams& physics, const TableParams& table,
+                           std::span<const ObjectSpec> objects) {
+  // nothing is half-built: start from an empty world, fill it only when everything validated
+  m_impl = std::make_unique<Impl>();
+  Impl& w = *m_impl;
+  w.pool = std::make_unique<ThreadPool>(1);
+  if (Status s = ValidateParams(physics, table)) return s;
+  for (const ObjectSpec& spec : objects) {
+    if (Status s = ValidateObject(spec, physics)) return s;
+    const MassProps props = ComputeMassProps(spec);
+    const Vec2 c = spec.pose.Apply(props.centroid);
+    if (c.x() < 0 || c.x() > table.width || c.y() < 0 || c.y() > table.height) {
+      return MakeError(spec.loc, "object '" + spec.name + "': pose puts its centre at (" +
+                                     FormatDouble(c.x()) + ", " + FormatDouble(c.y()) +
+                                     ") cm, outside the " + FormatDouble(table.width) + " x " +
+                                     FormatDouble(table.height) + " cm table");
+    }
+  }
+
+  w.params = physics;
+  w.table = table;
+  w.dt = 1.0 / (physics.frameRate * physics.substeps);
+  w.pool = std::make_unique<ThreadPool>(physics.threads);
+
+  // per-object friction tables the layer listeners read
+  for (const ObjectSpec& spec : objects) {
+    w.particleFriction.push_back(spec.particleFriction >= 0 ? spec.particleFriction
+                                                            : physics.particleFriction);
+    w.objectFriction.push_back(spec.objectFriction);
+  }
+
+  // one world per layer, no gravity (the table is the plane), walls at the table's edges
+  for (int k = 0; k < physics.layers; ++k) {
+    auto layer = std::make_unique<Layer>();
+    layer->world = std::make_unique<b2World>(b2Vec2(0.0f, 0.0f));
+    layer->world->SetAllowSleeping(false);
+    layer->world->SetContinuousPhysics(true);
+    layer->listener.particleFriction = &w.particleFriction;
+    layer->listener.objectFriction = &w.objectFriction;
+    layer->listener.records = &layer->records;
+    layer->world->SetContactListener(&layer->listener);
+    layer->walls = CreateWalls(*layer->world, table);
+    w.layers.push_back(std::move(layer));
+  }
+
+  // objects: one slice per occupied layer, all sharing the object's pose and velocity
+  for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
+    ObjectData o;
+    o.spec = objects[oi];
+    if (o.spec.name.empty()) o.spec.name = "object " + std::to_string(oi + 1);
+    o.props = ComputeMassProps(o.spec);
+    o.top = ObjectHeight(o.spec);
+    o.rEff = EffectiveFrictionRadius(o.spec, o.props.centroid);
+    o.footprint = Footprint(o.spec);
+    for (int i = 0; i < o.footprint.outline.cols(); ++i) {
+      o.boundRadius = std::max(o.boundRadius, o.footprint.outline.col(i).norm());
+    }
+    o.boundRadius += 1e-6;
+    o.center = o.spec.pose.Apply(o.props.centroid);
+    o.angle = o.spec.pose.angle;
+    o.vel = o.spec.velocity;
+    o.omega = o.spec.angularVelocity;
+    o.forces.assign(physics.layers, LayerForces{});
+    const int n = SliceLayerCount(o.spec, physics.layerHeight, physics.layers);
+    for (int k = 0; k < n; ++k) {
+      Slice s;
+      s.layer = k;
+      s.z = SliceHeight(o.spec, k, physics.layerHeight);
+      s.section = SectionAt(o.spec, s.z);
+      b2BodyDef bd;
+      bd.type = b2_dynamicBody;
+      bd.allowSleep = false;
+      s.body = w.layers[k]->world->CreateBody(&bd);
+      b2FixtureDef fd;
+      fd.density = 0.0f;  // the mass data is set by mass splitting
+      fd.friction = static_cast<float>(o.spec.objectFriction);
+      fd.restitution = static_cast<float>(o.spec.restitution);
+      fd.filter.categoryBits = kObjectBit;
+      fd.filter.maskBits = kObjectBit | kParticleBit | kWallBit;
+      fd.userData.pointer = MakeTag(BodyKind::kObject, oi);
+      if (s.section.circle) {
+        b2CircleShape circle;
+        circle.m_radius = static_cast<float>(s.section.radius);
+        fd.shape = &circle;
+        s.body->CreateFixture(&fd);
+      } else {
+        for (const Contour& piece : s.section.pieces) {
+          b2Vec2 pts[b2_maxPolygonVertices];
+          const int count = static_cast<int>(piece.cols());
+          assert(count >= 3 && count <= b2_maxPolygonVertices && "convex piece out of range");
+          for (int i = 0; i < count; ++i) pts[i] = ToB2(piece.col(i));
+          b2PolygonShape poly;
+          poly.Set(pts, count);
+          fd.shape = &poly;
+          s.body->CreateFixture(&fd);
+        }
+      }
+      o.slices.push_back(std::move(s));
+    }
+    w.objects.push_back(std::move(o));
+  }
+  // mass data first: it sets the slices' centre of mass, which the written pose refers to
+  w.PrepareMassSplitting();
+  for (ObjectData& o : w.objects) w.WriteBack(o);
+  return std::nullopt;
+}
+
+void LayeredWorld::ApplyPlan(const ParticlePlan& plan) {
+  Impl& w = *m_impl;
+  if (w.layers.empty()) return;
+  for (const PlannedParticle& pp : plan.particles) {
+    auto it = w.particleIndex.find(pp.id);
+    switch (pp.action) {
+      case ParticleAction::kCreated: {
+        if (it != w.particleIndex.end() || !pp.start.allFinite() || !pp.target.allFinite()) {
+          ++w.planErrors;
+          break;
+        }
+        ParticleData p;
+        p.id = pp.id;
+        p.contact = pp.contact;
+        p.prevTarget = pp.start;
+        p.target = pp.target;
+        p.baseHeight = std::max(0.0, pp.baseHeight);
+        p.baseLayer = w.CreationLayer(pp.start, p.baseHeight);
+        int layer;
+        w.FindSupport(pp.start, p.baseLayer, &layer, &p.baseHeight, &p.restingOn);
+        if (layer < p.baseLayer) p.baseLayer = layer;  // nothing there to rest on
+        w.CreateBodies(p, pp.start, Vec2::Zero());
+        w.particleIndex[p.id] = static_cast<int>(w.particles.size());
+        w.particles.push_back(std::move(p));
+        break;
+      }
+      case ParticleAction::kReused:
+        if (it == w.particleIndex.end() || !pp.target.allFinite()) {
+          ++w.planErrors;
+          break;
+        }
+        w.particles[it->second].target = pp.target;
+        w.particles[it->second].contact = pp.contact;
+        break;
+      case ParticleAction::kDeleted: {
+        if (it == w.particleIndex.end()) {
+          ++w.planErrors;
+          break;
+        }
+        // erase keeping creation order (deterministic, and what Particles() promises)
+        const int index = it->second;
+        w.DestroyBodies(w.particles[index]);
+        w.particles.erase(w.particles.begin() + index);
+        w.particleIndex.erase(it);
+        for (int i = index; i < static_cast<int>(w.particles.size()); ++i) {
+          w.particleIndex[w.particles[i].id] = i;
+        }
+        break;
+      }
+    }
+  }
+}
+
+void LayeredWorld::StepFrame() {
+  Impl& w = *m_impl;
+  if (w.layers.empty()) return;
+  for (ObjectData& o : w.objects) {
+    o.forces.assign(w.layers.size(), LayerForces{});
+    o.topFriction.setZero();
+    o.topNormal = 0.0;
+  }
+
+  // substeps: control, step the layers, couple, support
+  const int S = w.params.substeps;
+  for (int s = 0; s < S; ++s) {
+    w.ApplyKinematicControl(static_cast<double>(s + 1) / S);
+    w.PrepareMassSplitting();
+    w.ApplyPushes();
+    w.StepLayers();
+    w.Couple();
+    w.CollectRecords(s == S - 1);
+    w.UpdateSupport();
+    if (w.observer) w.observer(s);
+  }
+
+  // impulses summed over the frame become the frame's mean forces
+  const double frameTime = 1.0 / w.params.frameRate;
+  for (ObjectData& o : w.objects) {
+    for (LayerForces& f : o.forces) {
+      f.normal /= frameTime;
+      f.friction /= frameTime;
+      f.normalMagnitude /= frameTime;
+      f.frictionMagnitude /= frameTime;
+    }
+    o.topFriction /= frameTime;
+    o.topNormal /= frameTime;
+    o.pushes.clear();
+  }
+  for (ParticleData& p : w.particles) p.prevTarget = p.target;
+  ++w.frame;
+}
+
+void LayeredWorld::ApplyForce(int object, const Vec2& force, const Vec2& worldPoint, int layer) {
+  Impl& w = *m_impl;
+  // bad pushes are counted and dropped, never simulated
+  if (object < 0 || object >= ObjectCount() || !force.allFinite() || !worldPoint.allFinite()) {
+    ++w.planErrors;
+    return;
+  }
+  ObjectData& o = w.objects[object];
+  Push p;
+  p.force = force;
+  p.point = worldPoint;
+  p.layer = std::clamp(layer, 0, static_cast<int>(o.slices.size()) - 1);
+  o.pushes.push_back(p);
+}
+
+double LayeredWorld::TopHeightAt(const Vec2& p) const {
+  double best = 0.0;
+  for (const ObjectData& o : m_impl->objects) {
+    if (!o.MayHold(p)) continue;
+    best = std::max(best, SurfaceHeightAt(o.spec, o.ToLocal(p)));
+  }
+  return best;
+}
+
+double LayeredWorld::FootprintDepth(const Vec2& p, double* topHeight) const {
+  double depth = -1e300, top = 0.0, bestTop = -1.0;
+  for (const ObjectData& o : m_impl->objects) {
+    const double d = FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(p));
+    if (d > 0) {
+      // inside: the highest object wins
+      if (o.top > bestTop) {
+        bestTop = o.top;
+        depth = d;
+        top = o.top;
+      }
+    } else if (bestTop < 0) {
+      depth = std::max(depth, d);
+    }
+  }
+  if (topHeight != nullptr) *topHeight = top;
+  return m_impl->objects.empty() ? -1e300 : depth;
+}
+
+Vec2 LayeredWorld::NearestOutside(const Vec2& p) const {
+  const auto& objects = m_impl->objects;
+  constexpr double kEps = 1e-6;  // how far outside the boundary the answer lies, cm
+  auto inside = [&](const Vec2& q) {
+    for (const ObjectData& o : objects) {
+      if (FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(q)) > -kEps / 2) {
+        return true;
+      }
+    }
+    return false;
+  };
+  if (!inside(p)) return p;
+  Vec2 best = p;
+  double bestD = 1e300;
+  auto consider = [&](const Vec2& q) {
+    const double d = (q - p).norm();
+    if (d < bestD && !inside(q)) {
+      bestD = d;
+      best = q;
+    }
+  };
+  // p projected out through each footprint's nearest edge; any free point lies at least as far
+  // as the deepest footprint holding p is deep, so a free candidate that close is the answer
+  double lowerBound = 0.0;
+  for (const ObjectData& o : objects) {
+    const Pose2& pose = o.pose;
+    const Vec2 local = o.ToLocal(p);
+    lowerBound = std::max(lowerBound, FootprintSignedDistance(o.spec, o.footprint, local));
+    const Vec2 edge = NearestFootprintPoint(o.footprint, local);
+    const Vec2 out = FootprintSignedDistance(o.spec, o.footprint, local) > 0 ? Vec2(edge - local)
+                                                                             : Vec2(local - edge);
+    consider(pose.Apply(edge + kEps * (out.norm() > 1e-12 ? Vec2(out.normalized()) : Vec2(1, 0))));
+  }
+  if (bestD <= lowerBound + 2 * kEps) return best;
+  // overlapping footprints need a search: march out along 64 rays and bisect the first free
+  // point on each
+  constexpr int kRays = 64;
+  constexpr double kStep = 0.05, kReach = 200.0;  // cm
+  for (int i = 0; i < kRays; ++i) {
+    const double a = 2.0 * kPi * i / kRays;
+    const Vec2 dir(std::cos(a), std::sin(a));
+    double lo = 0.0, hi = -1.0;
+    for (double t = kStep; t < std::min(kReach, bestD + kStep); t += kStep) {
+      if (!inside(p + t * dir)) {
+        hi = t;
+        break;
+      }
+      lo = t;
+    }
+    if (hi < 0) continue;
+    for (int k = 0; k < 40; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (inside(p + mid * dir) ? lo : hi) = mid;
+    }
+    consider(p + hi * dir);
+  }
+  return best;
+}
+
+std::vector<ParticleFeedback> LayeredWorld::Feedback() const {
+  std::vector<ParticleFeedback> out;
+  out.reserve(m_impl->particles.size());
+  for (const ParticleData& p : m_impl->particles) {
+    ParticleFeedback f;
+    f.id = p.id;
+    f.pos = FromB2(p.bodies.front()->GetPosition());
+    f.baseHeight = p.baseHeight;
+    out.push_back(f);
+  }
+  return out;
+}
+
+int LayeredWorld::ObjectCount() const {
+  return static_cast<int>(m_impl->objects.size());
+}
+
+ObjectState LayeredWorld::Object(int i) const {
+  assert(i >= 0 && i < ObjectCount() && "object index out of range");
+  const ObjectData& o = m_impl->objects[i];
+  ObjectState s;
+  s.name = o.spec.name;
+  s.pose = o.pose;
+  s.velocity = o.vel;
+  s.angularVelocity = o.omega;
+  s.centerOfMass = o.center;
+  s.held = o.held;
+  s.topHeight = o.top;
+  s.mass = o.props.mass;
+  s.inertia = o.props.inertia;
+  s.layerCount = static_cast<int>(o.slices.size());
+  s.particlesOnTop = o.particlesOnTop;
+  return s;
+}
+
+ObjectForces LayeredWorld::Forces(int i) const {
+  assert(i >= 0 && i < ObjectCount() && "object index out of range");
+  const ObjectData& o = m_impl->objects[i];
+  ObjectForces f;
+  f.layers = o.forces;
+  for (const LayerForces& l : o.forces) {
+    f.total.normal += l.normal;
+    f.total.friction += l.friction;
+    f.total.normalMagnitude += l.normalMagnitude;
+    f.total.frictionMagnitude += l.frictionMagnitude;
+    f.total.contacts += l.contacts;
+  }
+  f.topFriction = o.topFriction;
+  f.topNormal = o.topNormal;
+  return f;
+}
+
+std::vector<SliceOutline> LayeredWorld::Slices(int i) const {
+  assert(i >= 0 && i < ObjectCount() && "object index out of range");
+  std::vector<SliceOutline> out;
+  for (const Slice& s : m_impl->objects[i].slices) {
+    SliceOutline so;
+    so.layer = s.layer;
+    so.z = s.z;
+    so.outline = s.section.outline;
+    so.pieces = s.section.circle ? std::vector<Contour>{s.section.outline} : s.section.pieces;
+    out.push_back(std::move(so));
+  }
+  return out;
+}
+
+std::vector<ParticleState> LayeredWorld::Particles() const {
+  std::vector<ParticleState> out;
+  out.reserve(m_impl->particles.size());
+  for (const ParticleData& p : m_impl->particles) {
+    ParticleState s;
+    s.id = p.id;
+    s.contact = p.contact;
+    s.pos = FromB2(p.bodies.front()->GetPosition());
+    s.target = p.target;
+    s.baseHeight = p.baseHeight;
+    s.baseLayer = p.baseLayer;
+    s.layerCount = static_cast<int>(p.bodies.size());
+    s.restingOn = p.restingOn;
+    out.push_back(s);
+  }
+  return out;
+}
+
+int LayeredWorld::ParticleCount() const {
+  return static_cast<int>(m_impl->particles.size());
+}
+
+int LayeredWorld::BodyCount() const {
+  int n = 0;
+  for (const auto& layer : m_impl->layers) n += layer->world->GetBodyCount() - 1;  // walls
+  return n;
+}
+
+int64_t LayeredWorld::Frame() const {
+  return m_impl->frame;
+}
+
+int LayeredWorld::PlanErrors() const {
+  return m_impl->planErrors;
+}
+
+const PhysicsParams& LayeredWorld::Params() const {
+  return m_impl->params;
+}
+
+uint64_t LayeredWorld::StateHash() const {
+  uint64_t h = 14695981039346656037ull;
+  for (const ObjectData& o : m_impl->objects) {
+    HashValue(h, o.center.x());
+    HashValue(h, o.center.y());
+    HashValue(h, o.angle);
+    HashValue(h, o.vel.x());
+    HashValue(h, o.vel.y());
+    HashValue(h, o.omega);
+  }
+  for (const ParticleData& p : m_impl->particles) {
+    HashValue(h, p.id);
+    HashValue(h, p.baseLayer);
+    for (const b2Body* b : p.bodies) {
+      HashValue(h, b->GetPosition().x);
+      HashValue(h, b->GetPosition().y);
+      HashValue(h, b->GetLinearVelocity().x);
+      HashValue(h, b->GetLinearVelocity().y);
+    }
+  }
+  return h;
+}
+
+bool LayeredWorld::SlicesAgree() const {
+  for (const ObjectData& o : m_impl->objects) {
+    const b2Body* first = o.slices.front().body;
+    const b2Transform xf = first->GetTransform();
+    for (const Slice& s : o.slices) {
+      const b2Transform t = s.body->GetTransform();
+      if (std::memcmp(&t, &xf, sizeof(xf)) != 0) return false;
+      if (s.body->GetAngle() != first->GetAngle()) return false;
+      const b2Vec2 v = s.body->GetLinearVelocity(), v0 = first->GetLinearVelocity();
+      if (v.x != v0.x || v.y != v0.y) return false;
+      if (s.body->GetAngularVelocity() != first->GetAngularVelocity()) return false;
+    }
+  }
+  return true;
+}
+
+void LayeredWorld::SetSubstepObserver(std::function<void(int)> observer) {
+  m_impl->observer = std::move(observer);
+}
+
+}  // namespace pg

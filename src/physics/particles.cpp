@@ -1,0 +1,140 @@
+// Particle stacks: creation in consecutive layers, kinematic control (Wilson, ITS 2009,
+// "KINEMATIC CONTROL") and support: a stack keeps its base layer while something holds it there
+// and otherwise falls to the highest surface below; it never climbs.
+#include "world_impl.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pg {
+
+namespace {
+
+bool Touching(b2Body* body) {
+  for (b2ContactEdge* e = body->GetContactList(); e != nullptr; e = e->next) {
+    if (e->contact->IsTouching()) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+int LayeredWorld::Impl::LayerOf(double z) const {
+  const int k = static_cast<int>(std::lround(z / params.layerHeight));
+  return std::clamp(k, 0, LayerCount() - 1);
+}
+
+int LayeredWorld::Impl::SupportLayer(int o, double h) const {
+  // the first layer above the object's slices, even for slabs thinner than half a layer
+  const int above = static_cast<int>(objects[o].slices.size());
+  return std::min(std::max(LayerOf(h), above), LayerCount() - 1);
+}
+
+void LayeredWorld::Impl::FindSupport(const Vec2& p, int maxLayer, int* layer, double* height,
+                                     int* object) const {
+  *layer = 0;
+  *height = 0.0;
+  *object = -1;
+  // with one layer nothing can rest on an object's top
+  if (LayerCount() < 2) return;
+  for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
+    const ObjectData& o = objects[oi];
+    if (!o.MayHold(p)) continue;
+    const double h = SurfaceHeightAt(o.spec, o.ToLocal(p));
+    if (h < 0) continue;
+    const int k = SupportLayer(oi, h);
+    if (k > maxLayer) continue;
+    if (k > *layer || (k == *layer && h > *height)) {
+      *layer = k;
+      *height = h;
+      *object = oi;
+    }
+  }
+}
+
+int LayeredWorld::Impl::CreationLayer(const Vec2& p, double baseHeight) const {
+  int k = LayerOf(baseHeight);
+  if (baseHeight <= 0 || LayerCount() < 2) return k;
+  // resting on an object's surface at that height: use the layer above its slices
+  for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
+    if (!objects[oi].MayHold(p)) continue;
+    const double h = SurfaceHeightAt(objects[oi].spec, objects[oi].ToLocal(p));
+    if (h >= 0 && LayerOf(h) == LayerOf(baseHeight)) k = std::max(k, SupportLayer(oi, h));
+  }
+  return k;
+}
+
+void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Vec2& vel) {
+  assert(p.bodies.empty() && "stack already has bodies");
+  const int K = LayerCount();
+  const int top = params.capsule ? K : std::min(K, p.baseLayer + params.stackSize);
+  b2CircleShape circle;
+  circle.m_radius = static_cast<float>(params.particleRadius);
+  b2FixtureDef fd;
+  fd.shape = &circle;
+  fd.density = 1.0f;
+  fd.friction = 0.0f;  // set per contact from the object (LayerListener::PreSolve)
+  fd.restitution = 0.0f;
+  fd.filter.categoryBits = kParticleBit;
+  fd.filter.maskBits = kObjectBit;
+  fd.userData.pointer = MakeTag(BodyKind::kParticle, 0);
+  b2MassData md;
+  md.mass = static_cast<float>(params.particleMass);
+  md.center.SetZero();
+  md.I = 0.0f;
+  for (int k = p.baseLayer; k < top; ++k) {
+    b2BodyDef bd;
+    bd.type = b2_dynamicBody;
+    bd.position = ToB2(pos);
+    bd.linearVelocity = ToB2(vel);
+    bd.fixedRotation = true;
+    bd.allowSleep = false;
+    b2Body* body = layers[k]->world->CreateBody(&bd);
+    body->CreateFixture(&fd);
+    body->SetMassData(&md);
+    p.bodies.push_back(body);
+  }
+}
+
+void LayeredWorld::Impl::DestroyBodies(ParticleData& p) {
+  for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
+    layers[p.baseLayer + j]->world->DestroyBody(p.bodies[j]);
+  }
+  p.bodies.clear();
+}
+
+void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
+  const double m = params.particleMass;
+  for (ParticleData& p : particles) {
+    const Vec2 goal = p.prevTarget + alpha * (p.target - p.prevTarget);
+    for (b2Body* b : p.bodies) {
+      const Vec2 x = FromB2(b->GetPosition());
+      const Vec2 v = FromB2(b->GetLinearVelocity());
+      const Vec2 force = m * ((goal - x) / dt - v) / dt;
+      b->ApplyForceToCenter(ToB2(force), true);
+      // continuous collision only when a step could carry the body past a surface: a body moving
+      // less than its radius per step, or already pressing on a surface, is held by the ordinary
+      // contact; time-of-impact sub-steps would only disturb the contact forces and cost time
+      b->SetBullet((goal - x).norm() > params.particleRadius && !Touching(b));
+    }
+  }
+}
+
+void LayeredWorld::Impl::UpdateSupport() {
+  for (ParticleData& p : particles) {
+    const Vec2 pos = FromB2(p.bodies.front()->GetPosition());
+    int layer, object;
+    double height;
+    FindSupport(pos, p.baseLayer, &layer, &height, &object);
+    p.restingOn = object;
+    p.baseHeight = height;
+    if (layer == p.baseLayer) continue;
+    // the support went away: fall to the highest surface below, keeping the motion
+    const Vec2 vel = FromB2(p.bodies.front()->GetLinearVelocity());
+    DestroyBodies(p);
+    p.baseLayer = layer;
+    CreateBodies(p, pos, vel);
+  }
+}
+
+}  // namespace pg

@@ -1,0 +1,201 @@
+// Private state of LayeredWorld, shared by layered_world.cpp (build, frame loop, queries),
+// coupling.cpp (mass splitting, averaging, table and top friction) and particles.cpp (stacks,
+// kinematic control, support).
+#pragma once
+
+#include "thread_pool.h"
+
+#include "proxygrasp/physics/layered_world.h"
+#include "proxygrasp/physics/shapes.h"
+
+#include <box2d/box2d.h>
+
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+namespace pg {
+
+/// What a Box2D fixture belongs to; stored in the fixture's user data with an index.
+enum class BodyKind : uintptr_t { kWall = 0, kObject = 1, kParticle = 2 };
+
+inline uintptr_t MakeTag(BodyKind kind, int index) {
+  return (static_cast<uintptr_t>(index) << 2) | static_cast<uintptr_t>(kind);
+}
+inline BodyKind TagKind(uintptr_t tag) {
+  return static_cast<BodyKind>(tag & 3u);
+}
+inline int TagIndex(uintptr_t tag) {
+  return static_cast<int>(tag >> 2);
+}
+
+// collision categories: particles and walls touch objects only
+inline constexpr uint16 kObjectBit = 0x1;
+inline constexpr uint16 kParticleBit = 0x2;
+inline constexpr uint16 kWallBit = 0x4;
+
+inline b2Vec2 ToB2(const Vec2& v) {
+  return b2Vec2(static_cast<float>(v.x()), static_cast<float>(v.y()));
+}
+inline Vec2 FromB2(const b2Vec2& v) {
+  return Vec2(v.x, v.y);
+}
+
+/// One particle-object contact's impulses in one Box2D solve.
+struct ContactRecord {
+  int object = -1;
+  Vec2 normalIn = Vec2::Zero();   ///< unit normal pointing into the object
+  Vec2 tangentIn = Vec2::Zero();  ///< unit tangent matching Box2D's tangent impulse sign
+  double normalImpulse = 0.0;     ///< summed over manifold points, dyn s
+  double tangentImpulse = 0.0;    ///< summed over manifold points, dyn s
+  double friction = 0.0;          ///< mu used by the solver
+  int points = 0;
+};
+
+/// Sets contact friction from object properties and records particle contact impulses. Runs on
+/// the thread stepping its layer; writes only its own layer's records.
+class LayerListener final : public b2ContactListener {
+ public:
+  const std::vector<double>* particleFriction = nullptr;  ///< per object
+  const std::vector<double>* objectFriction = nullptr;    ///< per object
+  std::vector<ContactRecord>* records = nullptr;
+
+  void PreSolve(b2Contact* contact, const b2Manifold* oldManifold) override;
+  void PostSolve(b2Contact* contact, const b2ContactImpulse* impulse) override;
+};
+
+/// One height layer: its Box2D world and what it recorded in the last substep.
+struct Layer {
+  std::unique_ptr<b2World> world;
+  LayerListener listener;
+  b2Body* walls = nullptr;
+  std::vector<ContactRecord> records;
+};
+
+/// An object's body in one layer.
+struct Slice {
+  int layer = 0;
+  double z = 0.0;  ///< height of the cross-section, cm
+  CrossSection section;
+  b2Body* body = nullptr;
+  bool touching = false;  ///< had a touching contact in the last substep
+};
+
+/// An external push waiting for the next frame.
+struct Push {
+  Vec2 force = Vec2::Zero();
+  Vec2 point = Vec2::Zero();
+  int layer = 0;
+};
+
+/// One rigid object: its slices and its coupled state (double precision, authoritative).
+struct ObjectData {
+  ObjectSpec spec;
+  MassProps props;
+  double top = 0.0;          ///< top height, cm
+  double rEff = 0.0;         ///< table friction lever arm, cm
+  double boundRadius = 0.0;  ///< footprint radius about the local origin, cm
+  CrossSection footprint;
+  std::vector<Slice> slices;  ///< layers 0 .. slices.size()-1
+  int splitCount = -1;        ///< n in the slices' current mass data M/n
+
+  // coupled state: centre of mass, angle and their rates
+  Vec2 center = Vec2::Zero();
+  double angle = 0.0;
+  Vec2 vel = Vec2::Zero();
+  double omega = 0.0;
+  // the same state as the slices hold it (float), the base of the next coupling
+  Vec2 centerF = Vec2::Zero();
+  double angleF = 0.0;
+  Vec2 velF = Vec2::Zero();
+  double omegaF = 0.0;
+
+  // this frame's diagnostics (impulses until the frame's end, then forces)
+  std::vector<LayerForces> forces;
+  Vec2 topFriction = Vec2::Zero();
+  double topNormal = 0.0;
+  bool held = false;
+  int particlesOnTop = 0;
+  std::vector<Push> pushes;
+
+  // the pose of the local frame, cached at every write-back
+  Pose2 pose;
+  double cosA = 1.0, sinA = 0.0;
+
+  /// The pose of the local frame computed from the centre of mass and angle.
+  Pose2 Pose() const;
+  /// Caches pose, cosA and sinA from the coupled state.
+  void CachePose();
+  /// A table point in the local frame (cached pose).
+  Vec2 ToLocal(const Vec2& p) const {
+    const Vec2 d = p - pose.pos;
+    return Vec2(cosA * d.x() + sinA * d.y(), -sinA * d.x() + cosA * d.y());
+  }
+  /// Quick test that a table point may lie over the footprint (cached pose).
+  bool MayHold(const Vec2& p) const {
+    return (p - pose.pos).squaredNorm() <= boundRadius * boundRadius;
+  }
+};
+
+/// One particle stack.
+struct ParticleData {
+  ParticleId id = kNoId;
+  ContactId contact = kNoId;
+  Vec2 target = Vec2::Zero();      ///< reached by the frame's end
+  Vec2 prevTarget = Vec2::Zero();  ///< the target of the previous frame (or the start)
+  double baseHeight = 0.0;
+  int baseLayer = 0;
+  int restingOn = -1;
+  std::vector<b2Body*> bodies;  ///< layers baseLayer, baseLayer + 1, ...
+};
+
+struct LayeredWorld::Impl {
+  PhysicsParams params;
+  TableParams table;
+  double dt = 0.0;  ///< substep, s
+  std::vector<std::unique_ptr<Layer>> layers;
+  std::vector<ObjectData> objects;
+  std::vector<double> particleFriction;  ///< per object, for the listeners
+  std::vector<double> objectFriction;    ///< per object, for the listeners
+  std::vector<ParticleData> particles;
+  std::unordered_map<ParticleId, int> particleIndex;
+  std::unique_ptr<ThreadPool> pool;
+  int64_t frame = 0;
+  int planErrors = 0;
+  std::function<void(int)> observer;
+
+  int LayerCount() const { return static_cast<int>(layers.size()); }
+  /// Layer whose bodies rest on a surface at height z.
+  int LayerOf(double z) const;
+
+  // particles.cpp
+  /// Creates the stack's bodies from its base layer at pos with velocity vel.
+  void CreateBodies(ParticleData& p, const Vec2& pos, const Vec2& vel);
+  void DestroyBodies(ParticleData& p);
+  /// Layer a particle rests in on object o's surface at height h.
+  int SupportLayer(int o, double h) const;
+  /// The highest surface under p no higher than maxLayer: its layer, height and object (-1 table).
+  void FindSupport(const Vec2& p, int maxLayer, int* layer, double* height, int* object) const;
+  /// Base layer of a new particle placed at p resting at height baseHeight.
+  int CreationLayer(const Vec2& p, double baseHeight) const;
+  /// F = m((x* - x)/dt - v)/dt on every particle body, x* interpolated at fraction alpha.
+  void ApplyKinematicControl(double alpha);
+  /// Lets particles whose support went away fall to the highest surface below them.
+  void UpdateSupport();
+
+  // coupling.cpp
+  /// Gives each object's slices mass M/n, inertia I/n, n = layers predicted to have contacts.
+  void PrepareMassSplitting();
+  /// Applies the queued external pushes for one substep.
+  void ApplyPushes();
+  /// Steps every layer world (concurrently when threads > 1).
+  void StepLayers();
+  /// Couples each object's slices into one state, applies top and table friction, writes back.
+  void Couple();
+  /// Adds the layers' contact records to the objects' frame diagnostics.
+  void CollectRecords(bool lastSubstep);
+  /// Writes the object's coupled state to all its slices.
+  void WriteBack(ObjectData& o);
+};
+
+}  // namespace pg

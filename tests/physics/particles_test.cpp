@@ -1,0 +1,354 @@
+// Particle stacks (src/physics/particles.cpp): kinematic control, tunnelling, the squeeze of
+// Figure 4, top friction, support and falling, stack layers.
+#include "physics_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pg {
+namespace {
+
+using test::Box;
+using test::Create;
+using test::MustBuild;
+using test::Plan;
+using test::Reuse;
+
+constexpr double g = 981.0;
+// Box2D's linear slop: the overlap its position solver leaves in a resting contact, cm
+constexpr double kSlop = 0.005;
+
+TEST(KinematicControl, FreeParticleReachesEachTargetByFrameEnd) {
+  PhysicsParams p;
+  LayeredWorld w;
+  MustBuild(w, p, {});
+  w.ApplyPlan(Plan({Create(1, Vec2(10, 10), Vec2(11, 10))}));
+  std::vector<Vec2> substepPos;
+  w.SetSubstepObserver([&](int) { substepPos.push_back(w.Particles()[0].pos); });
+  for (int f = 0; f < 20; ++f) {
+    if (f > 0) w.ApplyPlan(Plan({Reuse(1, Vec2(11 + f, 10 + 0.5 * f))}));
+    substepPos.clear();
+    w.StepFrame();
+    const Vec2 target(11 + f, 10 + 0.5 * f);
+    const Vec2 prev = f == 0 ? Vec2(10, 10) : Vec2(10 + f, 10 + 0.5 * (f - 1));
+    // F = m((x* - x)/dt - v)/dt reaches x* in one substep; float positions (1e-5 cm at 30 cm)
+    for (int s = 0; s < p.substeps; ++s) {
+      const Vec2 expected = prev + (s + 1.0) / p.substeps * (target - prev);
+      EXPECT_NEAR((substepPos[s] - expected).norm(), 0.0, 1e-4)
+          << "frame " << f << " substep " << s;
+    }
+  }
+}
+
+TEST(KinematicControl, ParticlesNeverCollideWithEachOther) {
+  PhysicsParams p;
+  p.stackSize = 2;
+  LayeredWorld w;
+  MustBuild(w, p, {});
+  // three stacks driven to the same point would push each other apart if they collided
+  w.ApplyPlan(Plan({Create(1, Vec2(17, 20), Vec2(20, 20)), Create(2, Vec2(23, 20), Vec2(20, 20)),
+                    Create(3, Vec2(20, 23), Vec2(20, 20))}));
+  w.StepFrame();
+  for (const ParticleState& s : w.Particles())
+    EXPECT_NEAR((s.pos - Vec2(20, 20)).norm(), 0.0, 1e-4);
+}
+
+// runs a particle at `speed` towards a 1 cm thick heavy wall and reports whether it ever got past
+bool Tunnels(int substeps, double speed, double radius) {
+  PhysicsParams p;
+  p.substeps = substeps;
+  p.particleRadius = radius;
+  ObjectSpec wall = Box("thin", 30, 23, 1.0, 10.0, 2.0);
+  wall.mass = 1e5;  // does not give way
+  LayeredWorld w;
+  const Status st = w.Build(p, TableParams{}, std::vector<ObjectSpec>{wall});
+  EXPECT_FALSE(st.has_value());
+  w.ApplyPlan(Plan({Create(1, Vec2(20, 23), Vec2(20, 23))}));
+  bool passed = false;
+  w.SetSubstepObserver([&](int) {
+    const Vec2 local = w.Object(0).pose.Inverse(w.Particles()[0].pos);
+    passed |= local.x() > 0.0;
+  });
+  for (int f = 1; f <= 12; ++f) {
+    w.ApplyPlan(Plan({Reuse(1, Vec2(20 + speed * f / 60.0, 23))}));
+    w.StepFrame();
+  }
+  return passed;
+}
+
+TEST(KinematicControl, FastParticleDoesNotPassThroughThinObject) {
+  // the case: 200 cm/s against 1 cm at the default 4 substeps
+  EXPECT_FALSE(Tunnels(4, 200.0, 0.25));
+  // one substep per frame and a small particle: 1.83 cm per step against a 1.2 cm span, which
+  // only continuous collision (bullets) catches; 110 cm/s stays under Box2D's 2 cm per step cap
+  EXPECT_FALSE(Tunnels(1, 110.0, 0.1));
+}
+
+// a 4 x 4 x 2 box between two rows of 3 stacks (S = 2) whose targets lie d inside its faces
+struct Squeeze {
+  PhysicsParams params;
+  LayeredWorld world;
+  double d;
+
+  explicit Squeeze(double depth) : d(depth) {
+    params.stackSize = 2;
+    ObjectSpec box = Box("squeezed", 30, 23);
+    MustBuild(world, params, {box});
+    std::vector<PlannedParticle> ps;
+    const double r = params.particleRadius;
+    for (int i = 0; i < 3; ++i) {
+      const double y = 22 + i;
+      ps.push_back(Create(i + 1, Vec2(28 - r - 0.5, y), Vec2(28 - r + d, y)));
+      ps.push_back(Create(i + 11, Vec2(32 + r + 0.5, y), Vec2(32 + r - d, y)));
+    }
+    world.ApplyPlan(Plan(ps));
+    for (int f = 0; f < 20; ++f) world.StepFrame();  // settle
+  }
+
+  // pushes along +y with total force F (split over the two layers) for `frames` frames and
+  // returns how far the box moved
+  double Push(double F, int frames) {
+    const Vec2 start = world.Object(0).centerOfMass;
+    for (int f = 0; f < frames; ++f) {
+      const Vec2 c = world.Object(0).centerOfMass;
+      world.ApplyForce(0, Vec2(0, F / 2), c, 0);
+      world.ApplyForce(0, Vec2(0, F / 2), c, 1);
+      world.StepFrame();
+    }
+    return (world.Object(0).centerOfMass - start).norm();
+  }
+
+  // the force at which the grip slips: table static friction plus particle friction mu * N
+  double Limit() const {
+    const double dt = 1.0 / (params.frameRate * params.substeps);
+    const double normal = 12 * params.particleMass * (d + kSlop) / (dt * dt);
+    return 0.4 * world.Object(0).mass * g + params.particleFriction * normal;
+  }
+};
+
+TEST(Squeeze, NormalForceIsMassTimesDepthOverDtSquared) {
+  Squeeze sq(0.2);
+  const double dt = 1.0 / (sq.params.frameRate * sq.params.substeps);
+  const ObjectForces f = sq.world.Forces(0);
+  // a resting particle overlaps the face by Box2D's linear slop, so its target lies d + slop
+  // ahead of it: F = m (d + slop) / dt^2 per body
+  const double perBody = sq.params.particleMass * (sq.d + kSlop) / (dt * dt);
+  // 12 bodies (3 stacks x 2 layers x 2 sides); 1% for float rounding and solver residue
+  EXPECT_NEAR(f.total.normalMagnitude, 12 * perBody, 0.01 * 12 * perBody);
+  EXPECT_NEAR(f.layers[0].normalMagnitude, 6 * perBody, 0.01 * 6 * perBody);
+  EXPECT_NEAR(f.layers[1].normalMagnitude, 6 * perBody, 0.01 * 6 * perBody);
+  EXPECT_EQ(f.layers[2].normalMagnitude, 0.0);
+  // opposing sides cancel
+  EXPECT_LT(f.total.normal.norm(), 0.02 * f.total.normalMagnitude);
+  EXPECT_TRUE(sq.world.Object(0).held);
+}
+
+TEST(Squeeze, HoldsBelowFrictionLimitAndSlidesAbove) {
+  {
+    Squeeze sq(0.1);
+    // the grip gives a little while the particles' controllers take up the load (F dt^2 / m
+    // per body, about 0.02 cm here), then holds: 0.1 cm in one second
+    EXPECT_LT(sq.Push(0.8 * sq.Limit(), 60), 0.1);
+    EXPECT_TRUE(sq.world.Object(0).held);
+  }
+  {
+    Squeeze sq(0.1);
+    EXPECT_GT(sq.Push(1.3 * sq.Limit(), 60), 2.0);
+    EXPECT_FALSE(sq.world.Object(0).held);
+  }
+}
+
+TEST(Squeeze, DeeperPenetrationHoldsAgainstHarderPush) {
+  // Figure 4: force grows with the displacement from the input contour
+  Squeeze shallow(0.05), deep(0.15);
+  const double F = 1.5 * shallow.Limit();
+  ASSERT_LT(F, 0.8 * deep.Limit());
+  EXPECT_GT(shallow.Push(F, 60), 2.0);
+  EXPECT_LT(deep.Push(F, 60), 0.1);
+}
+
+TEST(Squeeze, OneSidedPushMovesTheBoxAtKineticFrictionAndIsNotHeld) {
+  PhysicsParams p;
+  LayeredWorld w;
+  MustBuild(w, p, {Box("pushed", 30, 23)});
+  std::vector<PlannedParticle> ps;
+  for (int i = 0; i < 3; ++i) ps.push_back(Create(i + 1, Vec2(27.7, 22 + i), Vec2(27.75, 22 + i)));
+  w.ApplyPlan(Plan(ps));
+  // a row of particles pushes the box along at 6 cm/s
+  double pushSum = 0.0;
+  for (int f = 1; f <= 40; ++f) {
+    std::vector<PlannedParticle> moves;
+    for (int i = 0; i < 3; ++i) moves.push_back(Reuse(i + 1, Vec2(27.75 + 0.1 * f, 22 + i)));
+    w.ApplyPlan(Plan(moves));
+    w.StepFrame();
+    if (f > 10) pushSum += w.Forces(0).total.normal.x();
+    EXPECT_FALSE(w.Object(0).held) << "frame " << f;  // no opposing contact
+  }
+  // the box keeps pace with the row, and the mean push balances kinetic table friction
+  // mu_k M g; 10% for the stick-slip of the contact from substep to substep
+  EXPECT_NEAR(w.Object(0).pose.pos.x() - 30.0, 4.0, 0.3);
+  const double friction = 0.3 * w.Object(0).mass * g;
+  EXPECT_NEAR(pushSum / 30, friction, 0.1 * friction);
+}
+
+TEST(Squeeze, GripCarriesTheObjectAcrossTheTable) {
+  // the grasp of the paper: both rows keep their squeeze and move 15 cm along y in 1.5 s
+  Squeeze sq(0.15);
+  const Vec2 start = sq.world.Object(0).centerOfMass;
+  const std::vector<ParticleState> initial = sq.world.Particles();
+  bool heldThroughout = true;
+  for (int f = 1; f <= 90; ++f) {
+    ParticlePlan plan;
+    for (const ParticleState& s : initial)
+      plan.particles.push_back(Reuse(s.id, s.target + Vec2(0, f / 6.0)));
+    sq.world.ApplyPlan(plan);
+    sq.world.StepFrame();
+    heldThroughout &= sq.world.Object(0).held;
+  }
+  const Vec2 moved = sq.world.Object(0).centerOfMass - start;
+  // the table's kinetic friction (0.3 M g = 4700 dyn, 3% of the particles' friction limit) makes
+  // the grip lag by the controllers' give, F dt^2 / m per body: well under 0.1 cm
+  EXPECT_NEAR(moved.y(), 15.0, 0.1);
+  EXPECT_NEAR(moved.x(), 0.0, 0.05);
+  EXPECT_TRUE(heldThroughout);
+}
+
+TEST(TopFriction, ParticleOnTopDragsObjectAtKineticForceThenMatchesIt) {
+  PhysicsParams p;
+  ObjectSpec box = Box("tray", 20, 23);
+  box.tableStatic = 0.0;
+  box.tableKinetic = 0.0;
+  LayeredWorld w;
+  MustBuild(w, p, {box});
+  // a particle on the centre of the top moving at u = 10 cm/s
+  w.ApplyPlan(Plan({Create(1, Vec2(20, 23), Vec2(20, 23), 2.0)}));
+  ASSERT_EQ(w.Particles()[0].baseLayer, 2);
+  ASSERT_EQ(w.Particles()[0].restingOn, 0);
+  const double u = 10.0;
+  auto frame = [&](int f) {
+    w.ApplyPlan(Plan({Reuse(1, Vec2(20 + u * f / 60.0, 23))}));
+    w.StepFrame();
+  };
+  frame(1);
+  const double v1 = w.Object(0).velocity.x();
+  for (int f = 2; f <= 4; ++f) frame(f);
+  const double v2 = w.Object(0).velocity.x();
+  // kinetic: a = mu_k Fd / M with mu_k = 0.75 * 0.8; exact per substep
+  const double a = 0.75 * 0.8 * p.particleDownForce / w.Object(0).mass;
+  EXPECT_NEAR((v2 - v1) / (3.0 / 60.0), a, 0.01 * a);
+  // static once the speeds match: the box moves with the finger
+  for (int f = 5; f <= 30; ++f) frame(f);
+  EXPECT_NEAR(w.Object(0).velocity.x(), u, 1e-3 * u);
+  EXPECT_EQ(w.Object(0).particlesOnTop, 1);
+  const ObjectForces forces = w.Forces(0);
+  EXPECT_NEAR(forces.topNormal, p.particleDownForce, 1e-9);
+}
+
+TEST(TopFriction, RestingParticlesAddTheirDownForceToTableNormal) {
+  PhysicsParams p;
+  ObjectSpec box = Box("loaded", 20, 23);
+  box.particleFriction = 0.0;  // no top friction: only the added weight acts
+  box.velocity = Vec2(40, 0);
+  LayeredWorld w;
+  MustBuild(w, p, {box});
+  // two particles ride on the top; the box slides about 2.2 cm under them (its back edge
+  // reaches x = 20.2, short of them)
+  w.ApplyPlan(Plan({Create(1, Vec2(21.5, 22), Vec2(21.5, 22), 2.0),
+                    Create(2, Vec2(21.5, 24), Vec2(21.5, 24), 2.0)}));
+  const double M = w.Object(0).mass;
+  w.StepFrame();
+  const double v1 = w.Object(0).velocity.x();
+  for (int f = 0; f < 4; ++f) w.StepFrame();
+  const double v2 = w.Object(0).velocity.x();
+  ASSERT_GT(v2, 0.0);
+  EXPECT_EQ(w.Object(0).particlesOnTop, 2);
+  // N = M g + 2 Fd: the deceleration is mu_k N / M, exact per substep
+  const double a = 0.3 * (M * g + 2 * p.particleDownForce) / M;
+  EXPECT_NEAR((v1 - v2) / (4.0 / 60.0), a, 0.01 * a);
+}
+
+TEST(Support, ParticleFallsToTableWhenBoxSlidesAway) {
+  PhysicsParams p;
+  ObjectSpec box = Box("sled", 20, 23);
+  box.velocity = Vec2(80, 0);
+  LayeredWorld w;
+  MustBuild(w, p, {box});
+  w.ApplyPlan(Plan({Create(1, Vec2(20, 23), Vec2(20, 23), 2.0)}));
+  ASSERT_EQ(w.Particles()[0].baseLayer, 2);
+  EXPECT_EQ(w.Particles()[0].restingOn, 0);
+  EXPECT_DOUBLE_EQ(w.Feedback()[0].baseHeight, 2.0);
+  for (int f = 0; f < 30; ++f) w.StepFrame();
+  // the box left (its back edge passed x = 20)
+  ASSERT_GT(w.Object(0).pose.pos.x() - 2.0, 20.0);
+  const ParticleState s = w.Particles()[0];
+  EXPECT_EQ(s.baseLayer, 0);
+  EXPECT_EQ(s.restingOn, -1);
+  EXPECT_EQ(s.baseHeight, 0.0);
+  EXPECT_NEAR((s.pos - Vec2(20, 23)).norm(), 0.0, 1e-4);
+}
+
+TEST(Support, ParticleFallsOntoLowerObjectAndNeverClimbs) {
+  PhysicsParams p;
+  ObjectSpec tall = Box("tall", 20, 23, 4, 4, 4.0);  // top 4: particles rest in layer 4
+  ObjectSpec low = Box("low", 24.5, 23, 5, 4, 2.0);  // top 2: layer 2
+  tall.mass = low.mass = 1e4;                        // they stay put
+  LayeredWorld w;
+  MustBuild(w, p, {tall, low});
+  // one particle steps from the tall box onto the low one in one frame (across the hairline
+  // gap Box2D's polygon skins leave between them); another walks from the table into the
+  // low box's side
+  w.ApplyPlan(
+      Plan({Create(1, Vec2(21, 23), Vec2(21, 23), 4.0), Create(2, Vec2(29, 23), Vec2(29, 23))}));
+  EXPECT_EQ(w.Particles()[0].baseLayer, 4);
+  EXPECT_EQ(w.Particles()[1].baseLayer, 0);
+  for (int f = 1; f <= 30; ++f) {
+    w.ApplyPlan(Plan({Reuse(1, Vec2(21, 23)), Reuse(2, Vec2(29 - 0.2 * f, 23))}));
+    w.StepFrame();
+  }
+  const std::vector<ParticleState> s = w.Particles();
+  EXPECT_EQ(s[0].baseLayer, 4);
+  // jump: the substeps land at 21.625, 22.25, 22.875 and 23.5, clear of the gap at 22
+  w.ApplyPlan(Plan({Reuse(1, Vec2(23.5, 23)), Reuse(2, Vec2(23, 23))}));
+  w.StepFrame();
+  const std::vector<ParticleState> t = w.Particles();
+  EXPECT_EQ(t[0].baseLayer, 2);
+  EXPECT_EQ(t[0].restingOn, 1);
+  EXPECT_DOUBLE_EQ(t[0].baseHeight, 2.0);
+  // the second one is stopped by the low box's side and stays on the table
+  EXPECT_EQ(t[1].baseLayer, 0);
+  EXPECT_EQ(t[1].restingOn, -1);
+  const double face = w.Object(1).pose.pos.x() + 2.5;
+  EXPECT_NEAR(t[1].pos.x(), face + p.particleRadius, 0.02);
+}
+
+TEST(Stacks, StackSizeAndCapsuleFillTheirLayers) {
+  PhysicsParams p;
+  p.layers = 8;
+  p.stackSize = 3;
+  ObjectSpec box = Box("block", 30, 23, 4, 4, 6.0);  // top 6: layer 6
+  LayeredWorld w;
+  MustBuild(w, p, {box});
+  const int slices = w.BodyCount();
+  EXPECT_EQ(slices, 6);
+  w.ApplyPlan(
+      Plan({Create(1, Vec2(10, 10), Vec2(10, 10)), Create(2, Vec2(30, 23), Vec2(30, 23), 6.0)}));
+  std::vector<ParticleState> s = w.Particles();
+  EXPECT_EQ(s[0].baseLayer, 0);
+  EXPECT_EQ(s[0].layerCount, 3);
+  EXPECT_EQ(s[1].baseLayer, 6);
+  EXPECT_EQ(s[1].layerCount, 2);  // clamped at the top layer
+  EXPECT_EQ(w.BodyCount(), slices + 5);
+
+  p.capsule = true;
+  LayeredWorld c;
+  MustBuild(c, p, {box});
+  c.ApplyPlan(Plan({Create(1, Vec2(10, 10), Vec2(10, 10))}));
+  EXPECT_EQ(c.Particles()[0].layerCount, 8);
+  c.ApplyPlan(Plan({test::Delete(1)}));
+  EXPECT_EQ(c.ParticleCount(), 0);
+  EXPECT_EQ(c.BodyCount(), slices);
+}
+
+}  // namespace
+}  // namespace pg
