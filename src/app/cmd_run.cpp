@@ -1,18 +1,86 @@
-// `proxygrasp run`: registered so --help lists it; issue #6 builds it.
-#include "commands.h"
-
+// `proxygrasp run`: runs levels headless through the whole pipeline and checks their expectations.
 #include <iostream>
+
+#include "commands.h"
+#include "proxygrasp/level/runner.h"
 
 namespace pg {
 
+namespace {
+
+struct RunArgs {
+  std::vector<std::string> levels;
+  std::vector<std::string> sets;
+  std::string mode;
+  std::string traceDir;
+  int64_t frames = -1;
+  bool profile = false;
+};
+
+int RunLevels(const RunArgs& args) {
+  RunOptions options;
+  options.frames = args.frames;
+  if (!args.mode.empty()) {
+    options.mode = args.mode == "instant" ? ProxyMode::kInstant : ProxyMode::kPersistent;
+  }
+
+  // load and override every level first, so a bad file or --set stops before anything runs
+  std::vector<Level> levels;
+  for (const std::string& path : args.levels) {
+    Result<Level> level = LoadLevel(path);
+    if (!level.ok()) {
+      std::cerr << level.error().Format() << "\n";
+      return kExitBadInput;
+    }
+    for (const std::string& set : args.sets) {
+      const size_t eq = set.find('=');
+      if (eq == std::string::npos) {
+        std::cerr << "proxygrasp run: --set " << set << ": expected section.key=value\n";
+        return kExitBadInput;
+      }
+      if (Status s = SetLevelParam(level.value(), set.substr(0, eq), set.substr(eq + 1))) {
+        std::cerr << "proxygrasp run: --set " << set << ": " << s->Format() << "\n";
+        return kExitBadInput;
+      }
+    }
+    levels.push_back(std::move(level.value()));
+  }
+
+  bool allPassed = true;
+  for (const Level& level : levels) {
+    RunOptions levelOptions = options;
+    if (!options.traceDir.empty() && levels.size() > 1) {
+      levelOptions.traceDir += "/" + level.name;
+    }
+    Result<LevelResult> result = RunLevel(level, levelOptions);
+    if (!result.ok()) {
+      std::cerr << result.error().Format() << "\n";
+      return kExitBadInput;
+    }
+    std::cout << FormatReport(level, result.value());
+    if (args.profile) std::cout << FormatProfile(result.value());
+    allPassed = allPassed && result.value().Passed();
+  }
+  return allPassed ? kExitOk : kExitFailed;
+}
+
+}  // namespace
+
 void AddRunCommand(CLI::App& app, int& exitCode) {
-  CLI::App* cmd =
-      app.add_subcommand("run", "Run levels headless and check their expectations (not built yet)");
-  cmd->allow_extras();
-  cmd->callback([&exitCode] {
-    std::cerr << "proxygrasp run: not built yet (issue #6)\n";
-    exitCode = kExitFailed;
-  });
+  CLI::App* cmd = app.add_subcommand(
+      "run", "Run levels headless through the whole pipeline and check their expectations");
+  // CLI11 binds options by reference, so they live as long as the program
+  static RunArgs args;
+  cmd->add_option("levels", args.levels, "Level files (TOML)")->required()->check(
+      CLI::ExistingFile);
+  cmd->add_option("--set", args.sets, "Override a parameter: section.key=value (repeatable)");
+  cmd->add_option("--mode", args.mode, "Force the proxy mode of every run")
+      ->check(CLI::IsMember({"persistent", "instant"}));
+  cmd->add_option("--trace", args.traceDir, "Write objects.csv and frames.csv into this folder");
+  cmd->add_option("--frames", args.frames, "Frames per run (default: the script's duration)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--profile", args.profile, "Print median and p99 milliseconds per stage");
+  cmd->callback([&exitCode] { exitCode = RunLevels(args); });
 }
 
 }  // namespace pg

@@ -636,12 +636,12 @@ TEST(Level, TheDocsExampleLoads) {
   EXPECT_EQ(level.expectations.size(), 5u);
   EXPECT_EQ(level.goals.size(), 2u);
   EXPECT_EQ(level.variants.size(), 1u);
-  EXPECT_EQ(level.files.size(), 2u) << "it includes levels/base.toml";
+  EXPECT_EQ(level.files.size(), 2u) << "it includes levels/shared/base.toml";
   EXPECT_EQ(LevelRuns(level).size(), 3u);
 }
 
 TEST(Level, SharedBaseOfThePapersLevelsLoads) {
-  const Result<Level> r = LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) + "/levels/base.toml");
+  const Result<Level> r = LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) + "/levels/shared/base.toml");
   ASSERT_TRUE(r.ok()) << r.error().Format();
   EXPECT_TRUE(r.value().objects.empty());
 }

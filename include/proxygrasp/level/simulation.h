@@ -1,0 +1,105 @@
+// The whole frame pipeline for one run of a level: synthetic camera (or a real frame), sensing,
+// tracking, proxies and the layered physics. The headless runner, the `sense` command and the app
+// all drive it, so every input path runs the same stages in the same order.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "proxygrasp/core/error.h"
+#include "proxygrasp/level/level.h"
+#include "proxygrasp/physics/layered_world.h"
+#include "proxygrasp/proxies/proxy_stage.h"
+#include "proxygrasp/sensing/sensor.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
+#include "proxygrasp/tracking/tracker.h"
+
+namespace pg {
+
+/// Counts and per-stage wall times of one frame, as frames.csv records them.
+struct FrameStats {
+  int64_t frame = 0;     ///< frame number from 0
+  double time = 0.0;     ///< s, at the start of the frame
+  int contacts = 0;      ///< current (not lifted) contacts
+  int particles = 0;     ///< live particle stacks after the frame
+  int created = 0;       ///< particles created this frame
+  int deleted = 0;       ///< particles deleted this frame
+  int bodies = 0;        ///< Box2D bodies (slices and particle bodies)
+  double senseMs = 0.0;  ///< camera rendering is not included
+  double trackMs = 0.0;
+  double proxyMs = 0.0;
+  double physicsMs = 0.0;
+  double totalMs = 0.0;  ///< sensing to physics
+};
+
+/// One run of a level through the pipeline.
+class Simulation {
+ public:
+  /// Builds the camera, sensor, tracker, proxies and world from the level's objects and the run's
+  /// parameters. On error nothing is kept and the Error names the level file where it can.
+  Status Start(const Level& level, const LevelParams& params);
+
+  /// One frame whose contacts are the level's script at the current time.
+  Status StepScript();
+  /// One frame whose contacts are these shapes, drawn by the synthetic camera.
+  Status StepShapes(std::span<const ContactShape> shapes);
+  /// One frame from a camera image (CV_8UC1 of the sensed size); errors name the frame.
+  Status StepImage(const cv::Mat& frame);
+
+  /// Frames stepped so far; the next frame's number.
+  int64_t Frame() const { return m_frame; }
+  /// Time at the start of the next frame, s.
+  double Time() const;
+  /// Length of one frame, s.
+  double FrameDuration() const { return 1.0 / m_params.physics.frameRate; }
+
+  const Level& level() const { return m_level; }
+  const LevelParams& params() const { return m_params; }
+  const LayeredWorld& world() const { return m_world; }
+  LayeredWorld& world() { return m_world; }
+  const SyntheticCamera& camera() const { return *m_camera; }
+
+  /// The last frame's camera image, contour frame, contacts, plan and stats.
+  const cv::Mat& cameraImage() const { return m_image; }
+  const ContourFrame& contours() const { return m_contours; }
+  const ContactSet& contacts() const { return m_contacts; }
+  const ParticlePlan& plan() const { return m_plan; }
+  const FrameStats& stats() const { return m_stats; }
+  /// The shapes drawn into the last frame (empty for a camera image).
+  const std::vector<ContactShape>& shapes() const { return m_shapes; }
+  /// For each shape of the last frame, its index in the level's script (-1 when not scripted).
+  const std::vector<int>& shapeScriptIndex() const { return m_shapeScript; }
+
+  /// The script contact a tracked contact belongs to (-1 when none): the scripted shape whose
+  /// outline lies nearest the contact's centroid when it first appeared.
+  int ScriptContactOf(ContactId id) const;
+
+ private:
+  Status Process(const cv::Mat& frame);
+  void AttributeContacts();
+
+  Level m_level;
+  LevelParams m_params;
+  std::unique_ptr<SyntheticCamera> m_camera;
+  Sensor m_sensor;
+  Tracker m_tracker;
+  ProxyStage m_proxies;
+  LayeredWorld m_world;
+
+  int64_t m_frame = 0;
+  cv::Mat m_image;
+  ContourFrame m_contours;
+  ContactSet m_contacts;
+  ParticlePlan m_plan;
+  FrameStats m_stats;
+  std::vector<ContactShape> m_shapes;
+  std::vector<int> m_shapeScript;
+  std::vector<std::pair<ContactId, int>> m_contactScript;  // sorted by contact id
+};
+
+}  // namespace pg

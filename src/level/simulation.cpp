@@ -1,0 +1,130 @@
+#include "proxygrasp/level/simulation.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "proxygrasp/core/timer.h"
+#include "proxygrasp/level/script.h"
+
+namespace pg {
+
+Status Simulation::Start(const Level& level, const LevelParams& params) {
+  // build into fresh stages so a failed start keeps nothing half-made
+  Simulation next;
+  next.m_level = level;
+  next.m_params = params;
+  next.m_camera = std::make_unique<SyntheticCamera>(params.camera, params.table);
+  const cv::Size size(params.camera.width, params.camera.height);
+  if (Status s = next.m_sensor.Configure(params.sensing, params.table, size)) {
+    if (s->loc.file.empty()) s->loc.file = level.path;
+    return s;
+  }
+  // the synthetic camera knows its clear table exactly: it serves as the captured background,
+  // unless the sensing parameters ask to capture one from the first frames
+  if (params.sensing.backgroundFrames == 0 && !next.m_sensor.HasBackground()) {
+    if (Status s = next.m_sensor.SetBackground(next.m_camera->Background())) return s;
+  }
+  if (Status s = next.m_world.Build(params.physics, params.table, level.objects)) return s;
+  *this = std::move(next);
+  return std::nullopt;
+}
+
+double Simulation::Time() const { return static_cast<double>(m_frame) * FrameDuration(); }
+
+Status Simulation::StepScript() {
+  m_shapeScript.clear();
+  std::vector<ContactShape> shapes = ShapesAt(m_level.script, Time(), &m_shapeScript);
+  m_shapes = std::move(shapes);
+  m_image = m_camera->Render(m_shapes);
+  return Process(m_image);
+}
+
+Status Simulation::StepShapes(std::span<const ContactShape> shapes) {
+  m_shapes.assign(shapes.begin(), shapes.end());
+  m_shapeScript.assign(m_shapes.size(), -1);
+  m_image = m_camera->Render(m_shapes);
+  return Process(m_image);
+}
+
+Status Simulation::StepImage(const cv::Mat& frame) {
+  m_shapes.clear();
+  m_shapeScript.clear();
+  m_image = frame;
+  return Process(m_image);
+}
+
+Status Simulation::Process(const cv::Mat& frame) {
+  FrameStats stats;
+  stats.frame = m_frame;
+  stats.time = Time();
+  const bool instant = m_params.proxies.mode == ProxyMode::kInstant;
+  Stopwatch total;
+
+  // sensing: frame -> contours in table cm
+  Stopwatch watch;
+  Result<ContourFrame> sensed = m_sensor.Process(frame, m_frame, stats.time, instant);
+  if (!sensed.ok()) return sensed.error();
+  m_contours = std::move(sensed.value());
+  stats.senseMs = watch.Ms();
+
+  // tracking: stable contact ids
+  watch.Restart();
+  m_contacts = m_tracker.Update(m_params.tracking, m_contours);
+  stats.trackMs = watch.Ms();
+  AttributeContacts();
+
+  // proxies: the particle plan, asking the world as it was after the last frame
+  watch.Restart();
+  const std::vector<ParticleFeedback> feedback = m_world.Feedback();
+  m_plan = m_proxies.Update(m_params.proxies, m_contacts, m_world, feedback,
+                            instant ? &m_contours.tableImage : nullptr);
+  stats.proxyMs = watch.Ms();
+
+  // physics: apply the plan and advance one frame
+  watch.Restart();
+  m_world.ApplyPlan(m_plan);
+  m_world.StepFrame();
+  stats.physicsMs = watch.Ms();
+  stats.totalMs = total.Ms();
+
+  for (const Contact& c : m_contacts.contacts) {
+    if (c.state != ContactState::kLifted) ++stats.contacts;
+  }
+  stats.particles = m_world.ParticleCount();
+  stats.created = m_plan.created;
+  stats.deleted = m_plan.deleted;
+  stats.bodies = m_world.BodyCount();
+  m_stats = stats;
+  ++m_frame;
+  return std::nullopt;
+}
+
+void Simulation::AttributeContacts() {
+  // a new contact belongs to the scripted shape nearest its centroid and keeps it for life
+  for (const Contact& c : m_contacts.contacts) {
+    if (c.state != ContactState::kNew) continue;
+    int best = -1;
+    double bestDistance = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < m_shapes.size(); ++i) {
+      if (m_shapeScript[i] < 0) continue;
+      // signed: negative inside, so a centroid inside a shape beats one near another's edge
+      const double d = ShapeDistance(m_shapes[i], c.blob.centroid);
+      if (d < bestDistance) {
+        bestDistance = d;
+        best = m_shapeScript[i];
+      }
+    }
+    const auto at = std::lower_bound(m_contactScript.begin(), m_contactScript.end(),
+                                     std::make_pair(c.id, std::numeric_limits<int>::min()));
+    m_contactScript.insert(at, {c.id, best});
+  }
+}
+
+int Simulation::ScriptContactOf(ContactId id) const {
+  const auto at = std::lower_bound(m_contactScript.begin(), m_contactScript.end(),
+                                   std::make_pair(id, std::numeric_limits<int>::min()));
+  if (at == m_contactScript.end() || at->first != id) return -1;
+  return at->second;
+}
+
+}  // namespace pg
