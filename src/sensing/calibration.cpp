@@ -63,7 +63,8 @@ Vec2 CameraModel::Undistort(const Vec2& px) const {
     const Vec2 dy = (Distort(u + Vec2(0.0, kStep)) - Distort(u)) / kStep;
     const double det = dx.x() * dy.y() - dy.x() * dx.y();
     if (std::abs(det) < 1e-12) break;
-    const Vec2 step((dy.y() * f.x() - dy.x() * f.y()) / det, (-dx.y() * f.x() + dx.x() * f.y()) / det);
+    const Vec2 step((dy.y() * f.x() - dy.x() * f.y()) / det,
+                    (-dx.y() * f.x() + dx.x() * f.y()) / det);
     u -= step;
     if (step.squaredNorm() < 1e-16) break;
   }
@@ -111,7 +112,8 @@ Result<CameraModel> ModelFromCalibration(const Calibration& c, const std::string
   if (c.imageSize.width <= 0 || c.imageSize.height <= 0)
     return fail("field 'image_width'/'image_height' must be positive");
   if (c.cameraMatrix.rows != 3 || c.cameraMatrix.cols != 3)
-    return fail("field 'camera_matrix' must be a 3x3 matrix (got " + SizeText(c.cameraMatrix) + ")");
+    return fail("field 'camera_matrix' must be a 3x3 matrix (got " + SizeText(c.cameraMatrix) +
+                ")");
   if (!AllFinite(c.cameraMatrix)) return fail("field 'camera_matrix' holds a non-finite number");
   CameraModel m;
   m.imageSize = c.imageSize;
@@ -135,7 +137,8 @@ Result<CameraModel> ModelFromCalibration(const Calibration& c, const std::string
     }
   }
   m.cameraToTable = c.cameraToTable;
-  if (!cv::checkRange(cv::Mat(c.cameraToTable)) || std::abs(cv::determinant(c.cameraToTable)) < 1e-15)
+  if (!cv::checkRange(cv::Mat(c.cameraToTable)) ||
+      std::abs(cv::determinant(c.cameraToTable)) < 1e-15)
     return fail("field 'camera_to_table' must be a finite, invertible 3x3 matrix");
   if (!c.background.empty() &&
       (c.background.type() != CV_8UC1 || c.background.size() != c.imageSize))
@@ -189,11 +192,11 @@ Status ReadMatrix(const cv::FileStorage& fs, const std::string& path, const char
     m.release();
   }
   if (m.empty())
-    return MakeError({path}, std::string("field '") + key + "' is not an OpenCV matrix (!!opencv-matrix)");
+    return MakeError({path},
+                     std::string("field '") + key + "' is not an OpenCV matrix (!!opencv-matrix)");
   if ((rows > 0 && m.rows != rows) || (cols > 0 && m.cols != cols))
-    return MakeError({path}, std::string("field '") + key + "' must be a " +
-                                 std::to_string(rows) + "x" + std::to_string(cols) +
-                                 " matrix (got " + SizeText(m) + ")");
+    return MakeError({path}, std::string("field '") + key + "' must be a " + std::to_string(rows) +
+                                 "x" + std::to_string(cols) + " matrix (got " + SizeText(m) + ")");
   if (m.channels() != 1 || !AllFinite(m))
     return MakeError({path}, std::string("field '") + key + "' must hold finite numbers");
   m.convertTo(out, CV_64F);
@@ -214,8 +217,7 @@ Status ReadPositiveInt(const cv::FileStorage& fs, const std::string& path, const
 }  // namespace
 
 Result<Calibration> LoadCalibration(const std::string& path) {
-  if (!std::filesystem::exists(path))
-    return MakeError({path}, "calibration file not found");
+  if (!std::filesystem::exists(path)) return MakeError({path}, "calibration file not found");
   if (std::filesystem::is_directory(path))
     return MakeError({path}, "calibration file is a directory");
   std::ifstream probe(path);

@@ -96,7 +96,9 @@ class CameraSource : public FrameSource {
     return m_path.empty() ? "camera " + std::to_string(m_index) : "camera " + m_path;
   }
   Status Reopen() override { return Open(); }
-  double FrameRate() const override { return m_capture.isOpened() ? m_capture.get(cv::CAP_PROP_FPS) : 0.0; }
+  double FrameRate() const override {
+    return m_capture.isOpened() ? m_capture.get(cv::CAP_PROP_FPS) : 0.0;
+  }
 
  private:
   int m_index;
@@ -197,14 +199,17 @@ long long LastNumber(const std::string& name) {
 }  // namespace
 
 std::vector<std::string> NumberedImages(const std::string& dir) {
-  static const char* const kExtensions[] = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm"};
+  static const char* const kExtensions[] = {".png", ".jpg",  ".jpeg", ".bmp",
+                                            ".tif", ".tiff", ".pgm",  ".ppm"};
   std::vector<std::pair<long long, std::string>> found;
   std::error_code ec;
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
     if (!e.is_regular_file()) continue;
     std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (std::find(std::begin(kExtensions), std::end(kExtensions), ext) == std::end(kExtensions)) continue;
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (std::find(std::begin(kExtensions), std::end(kExtensions), ext) == std::end(kExtensions))
+      continue;
     const std::string stem = e.path().stem().string();
     found.emplace_back(LastNumber(stem), e.path().string());
   }
@@ -240,7 +245,8 @@ FrameStatus SyntheticSource::Read(cv::Mat& frame) {
 
 Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec) {
   using Ptr = std::unique_ptr<FrameSource>;
-  if (spec.empty()) return MakeError({}, "no input given (camera:N, a video, a folder or synthetic:NAME)");
+  if (spec.empty())
+    return MakeError({}, "no input given (camera:N, a video, a folder or synthetic:NAME)");
 
   // built-in synthetic demo scenes
   if (StartsWith(spec, "synthetic:")) {
@@ -253,7 +259,8 @@ Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec) {
     auto script = [name, table](int64_t frame, std::vector<ContactShape>& shapes) {
       return DemoScene(name, frame, table, shapes);
     };
-    return Ptr(std::make_unique<SyntheticSource>(spec, SyntheticCameraParams{}, table, script, kDemoFrames));
+    return Ptr(std::make_unique<SyntheticSource>(spec, SyntheticCameraParams{}, table, script,
+                                                 kDemoFrames));
   }
 
   // cameras by index or device path
@@ -263,7 +270,8 @@ Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec) {
     if (StartsWith(spec, "camera:")) {
       const std::string number = spec.substr(7);
       if (number.empty() || number.size() > 6 ||
-          !std::all_of(number.begin(), number.end(), [](unsigned char c) { return std::isdigit(c); }))
+          !std::all_of(number.begin(), number.end(),
+                       [](unsigned char c) { return std::isdigit(c); }))
         return MakeError({spec}, "camera index must be a number (camera:0, camera:1, ...)");
       index = std::stoi(number);
     } else {

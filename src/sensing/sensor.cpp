@@ -74,7 +74,8 @@ cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin) {
         if (known.at<uint8_t>(by, bx)) continue;
         float sum = 0.0f;
         int n = 0;
-        for (const cv::Point d : {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
+        for (const cv::Point d :
+             {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
           const int x = bx + d.x, y = by + d.y;
           if (x < 0 || y < 0 || x >= bw || y >= bh || !known.at<uint8_t>(y, x)) continue;
           sum += level.at<float>(y, x);
@@ -101,15 +102,16 @@ cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin) {
   return out;
 }
 
-Status Sensor::Configure(const SensingParams& params, const TableParams& table, cv::Size imageSize) {
+Status Sensor::Configure(const SensingParams& params, const TableParams& table,
+                         cv::Size imageSize) {
   if (params.calibration.empty())
     return Configure(params, table, LinearCalibration(imageSize, table), "linear calibration");
   Result<Calibration> c = LoadCalibration(params.calibration);
   if (!c) return c.error();
   if (c.value().imageSize != imageSize)
-    return MakeError({params.calibration},
-                     "field 'image_width'/'image_height' is " + SizeText(c.value().imageSize) +
-                         " but the camera delivers " + SizeText(imageSize));
+    return MakeError({params.calibration}, "field 'image_width'/'image_height' is " +
+                                               SizeText(c.value().imageSize) +
+                                               " but the camera delivers " + SizeText(imageSize));
   return Configure(params, table, c.value(), params.calibration);
 }
 
@@ -135,8 +137,8 @@ Status Sensor::Configure(const SensingParams& params, const TableParams& table,
   m_tableMapX.release();
   m_tableMapY.release();
   m_kernel = params.morphology > 0
-                 ? cv::getStructuringElement(
-                       cv::MORPH_ELLIPSE, cv::Size(2 * params.morphology + 1, 2 * params.morphology + 1))
+                 ? cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * params.morphology + 1,
+                                                                         2 * params.morphology + 1))
                  : cv::Mat();
   m_configured = true;
   return std::nullopt;
@@ -145,7 +147,8 @@ Status Sensor::Configure(const SensingParams& params, const TableParams& table,
 Status Sensor::SetBackground(const cv::Mat& background) {
   const cv::Size expected = m_model.imageSize;
   if (background.empty() || background.type() != CV_8UC1 || background.size() != expected)
-    return MakeError({"background"}, "must be an 8-bit grey (CV_8UC1) image of " + SizeText(expected));
+    return MakeError({"background"},
+                     "must be an 8-bit grey (CV_8UC1) image of " + SizeText(expected));
   m_background = background.clone();
   m_captureSum.release();
   m_captured = 0;
@@ -159,12 +162,14 @@ Result<ContourFrame> Sensor::Process(const cv::Mat& frame, int64_t index, double
   const cv::Size expected = m_model.imageSize;
   // reject what the pipeline cannot read, saying what it expected
   if (frame.empty())
-    return MakeError(where, "empty frame (expected " + SizeText(expected) + " 8-bit grey, CV_8UC1)");
+    return MakeError(where,
+                     "empty frame (expected " + SizeText(expected) + " 8-bit grey, CV_8UC1)");
   if (frame.type() != CV_8UC1)
     return MakeError(where, "frame type is " + cv::typeToString(frame.type()) +
                                 ", expected CV_8UC1 (8-bit grey)");
   if (frame.size() != expected)
-    return MakeError(where, "frame is " + SizeText(frame.size()) + ", expected " + SizeText(expected));
+    return MakeError(where,
+                     "frame is " + SizeText(frame.size()) + ", expected " + SizeText(expected));
 
   ContourFrame out;
   out.index = index;
@@ -184,19 +189,20 @@ Result<ContourFrame> Sensor::Process(const cv::Mat& frame, int64_t index, double
     m_background = EstimateBackground(frame, 0.5 * m_params.threshold);
   }
 
-  // level normalization, threshold and clean-up
+  // level normalization, threshold, and an opening that removes specks and one-pixel bridges (no
+  // closing: holes are ignored anyway, and closing would fill finger crotches and join fingers)
   cv::subtract(frame, m_background, m_normalized);
   double level = m_params.threshold;
   if (m_params.thresholdMode == ThresholdMode::kOtsu) {
     cv::Mat scratch;
-    level = std::max(cv::threshold(m_normalized, scratch, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU),
-                     m_params.autoFloor);
+    level =
+        std::max(cv::threshold(m_normalized, scratch, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU),
+                 m_params.autoFloor);
   }
   m_lastThreshold = level;
   cv::threshold(m_normalized, m_binary, level, 255, cv::THRESH_BINARY);
   if (!m_kernel.empty()) {
     cv::morphologyEx(m_binary, m_binary, cv::MORPH_OPEN, m_kernel);
-    cv::morphologyEx(m_binary, m_binary, cv::MORPH_CLOSE, m_kernel);
   }
 
   ExtractBlobs(out.blobs);
@@ -231,7 +237,8 @@ void Sensor::ExtractBlobs(std::vector<Blob>& blobs) {
     for (size_t k = 0; k < m_refined.size(); ++k) {
       const Vec2& p = m_refined[k];
       dense.col(static_cast<Eigen::Index>(k)) =
-          m_linear ? ApplyHomography(m_model.cameraToTable, p.x(), p.y()) : m_model.CameraToTable(p);
+          m_linear ? ApplyHomography(m_model.cameraToTable, p.x(), p.y())
+                   : m_model.CameraToTable(p);
     }
     const double area = std::abs(SignedArea(dense));
     if (area < m_params.minArea || dense.cols() < 3) continue;
@@ -245,7 +252,8 @@ void Sensor::ExtractBlobs(std::vector<Blob>& blobs) {
     blob.contour = ResampleClosed(ccw, m_params.spacing, 3);
     blobs.push_back(std::move(blob));
   }
-  std::sort(blobs.begin(), blobs.end(), [](const Blob& a, const Blob& b) { return a.area > b.area; });
+  std::sort(blobs.begin(), blobs.end(),
+            [](const Blob& a, const Blob& b) { return a.area > b.area; });
 }
 
 void Sensor::RefineToEdge(std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const {
@@ -257,7 +265,8 @@ void Sensor::RefineToEdge(std::vector<cv::Point>& pixels, std::vector<Vec2>& out
   // orientation: with a positive shoelace sum the outward normal of tangent t is (t.y, -t.x)
   double shoelace = 0.0;
   for (int i = 0, j = n - 1; i < n; j = i++)
-    shoelace += static_cast<double>(pixels[j].x) * pixels[i].y - static_cast<double>(pixels[i].x) * pixels[j].y;
+    shoelace += static_cast<double>(pixels[j].x) * pixels[i].y -
+                static_cast<double>(pixels[i].x) * pixels[j].y;
   const double sign = shoelace >= 0.0 ? 1.0 : -1.0;
   const int reach = n >= 5 ? 2 : 1;
   const float minContrast = static_cast<float>(0.5 * m_lastThreshold);
@@ -270,7 +279,9 @@ void Sensor::RefineToEdge(std::vector<cv::Point>& pixels, std::vector<Vec2>& out
     if (len < 1e-9) continue;
     normal /= len;
     const Vec2 p = out[i];
-    auto g = [&](double t) { return Sample(m_normalized, p.x() + t * normal.x(), p.y() + t * normal.y()); };
+    auto g = [&](double t) {
+      return Sample(m_normalized, p.x() + t * normal.x(), p.y() + t * normal.y());
+    };
 
     // the edge is where the level crosses halfway between inside and outside
     const float inside = std::max({g(-1.0), g(-1.5), g(-2.0)});

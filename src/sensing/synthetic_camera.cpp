@@ -45,11 +45,12 @@ double EllipseDistance(const Vec2& p, double a, double b) {
   return k0 * (k0 - 1.0) / k1;
 }
 
-// polynomial smooth minimum: rounds the joint of two shapes with a fillet about k wide
-double SmoothMin(double a, double b, double k) {
-  if (k <= 0.0) return std::min(a, b);
-  const double h = std::max(k - std::abs(a - b), 0.0) / k;
-  return std::min(a, b) - h * h * k * 0.25;
+// union of two shapes whose concave joints are filleted with circular arcs of radius r (for
+// straight boundaries the fillet is exact; the zero level stays continuous everywhere)
+double RoundUnion(double a, double b, double r) {
+  if (r <= 0.0) return std::min(a, b);
+  const double u = std::max(r - a, 0.0), v = std::max(r - b, 0.0);
+  return std::max(r, std::min(a, b)) - std::sqrt(u * u + v * v);
 }
 
 // ---- hands: a palm (rounded box) and finger capsules, in the hand's unscaled local frame ----
@@ -65,19 +66,19 @@ struct HandModel {
   Vec2 palmHalf{4.0, 5.0};
   double palmCorner = 1.8;
   std::vector<Finger> fingers;  // thumb first
-  double blend = 0.5;           // smooth-union fillet, cm
+  double blend = 0.5;  // radius of the fillets where fingers meet the palm and each other, cm
   bool cupped = false;
 };
 
 const HandModel& HandFor(ShapeKind kind) {
   static const HandModel kFive = [] {
     HandModel h;
-    h.fingers = {{{-3.0, -1.5}, 50, 6.0, 1.0},
-                 {{-3.0, 4.0}, 14, 7.4, 0.85},
-                 {{-1.0, 4.3}, 4, 8.7, 0.9},
-                 {{1.1, 4.1}, -7, 8.0, 0.85},
-                 {{3.0, 3.5}, -20, 6.3, 0.75}};
-    h.blend = 0.5;
+    h.fingers = {{{-3.0, -1.8}, 55, 6.0, 1.0},
+                 {{-3.15, 3.8}, 16, 7.6, 0.85},
+                 {{-1.0, 4.2}, 4, 8.8, 0.9},
+                 {{1.15, 4.0}, -9, 8.1, 0.85},
+                 {{3.15, 3.3}, -24, 6.4, 0.75}};
+    h.blend = 0.45;
     return h;
   }();
   static const HandModel kFlat = [] {
@@ -87,7 +88,7 @@ const HandModel& HandFor(ShapeKind kind) {
                  {{-0.8, 4.2}, 0, 8.6, 0.9},
                  {{0.8, 4.1}, 0, 8.0, 0.9},
                  {{2.4, 3.6}, 0, 6.4, 0.8}};
-    h.blend = 0.9;
+    h.blend = 0.6;
     return h;
   }();
   static const HandModel kCupped = [] {
@@ -120,7 +121,7 @@ double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
   if (h.cupped) return ArcDistance(p, kCupRadius, kPi, DegToRad(kCupHalfSpan), kCupHalfThickness);
   double d = RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
   for (const Finger& f : h.fingers)
-    d = SmoothMin(d, CapsuleDistance(p, f.base, FingerTip(f), f.radius), h.blend);
+    d = RoundUnion(d, CapsuleDistance(p, f.base, FingerTip(f), f.radius), h.blend);
   return d;
 }
 
@@ -191,8 +192,7 @@ Contour TraceHandOutline(ShapeKind kind, double scale) {
   cv::Mat mask(rows, cols, CV_8UC1);
   for (int r = 0; r < rows; ++r) {
     uint8_t* row = mask.ptr<uint8_t>(r);
-    for (int c = 0; c < cols; ++c)
-      row[c] = eval(lo + Vec2(c * step, r * step)) <= 0.0 ? 255 : 0;
+    for (int c = 0; c < cols; ++c) row[c] = eval(lo + Vec2(c * step, r * step)) <= 0.0 ? 255 : 0;
   }
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
@@ -324,10 +324,11 @@ CameraModel SyntheticCameraModel(const SyntheticCameraParams& params, const Tabl
                                 {static_cast<float>(w - 0.5 - inset), -0.5f},
                                 {static_cast<float>(w - 0.5), static_cast<float>(h - 0.5)},
                                 {-0.5f, static_cast<float>(h - 0.5)}};
-  const cv::Point2f tablePts[4] = {{0.0f, static_cast<float>(table.height)},
-                                   {static_cast<float>(table.width), static_cast<float>(table.height)},
-                                   {static_cast<float>(table.width), 0.0f},
-                                   {0.0f, 0.0f}};
+  const cv::Point2f tablePts[4] = {
+      {0.0f, static_cast<float>(table.height)},
+      {static_cast<float>(table.width), static_cast<float>(table.height)},
+      {static_cast<float>(table.width), 0.0f},
+      {0.0f, 0.0f}};
   cv::Mat hm = cv::getPerspectiveTransform(image, tablePts);
   m.cameraToTable = cv::Matx33d(hm.ptr<double>());
   return m;
@@ -353,8 +354,8 @@ SyntheticCamera::SyntheticCamera(const SyntheticCameraParams& params, const Tabl
       m_tableY.at<float>(v, u) = static_cast<float>(t.y());
       const double r2 = ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / rMax2;
       m_gain.at<float>(v, u) = static_cast<float>(1.0 - params.vignetting * r2);
-      m_background.at<float>(v, u) =
-          static_cast<float>(params.background + params.gradient * (u / std::max(w - 1.0, 1.0) - 0.5));
+      m_background.at<float>(v, u) = static_cast<float>(
+          params.background + params.gradient * (u / std::max(w - 1.0, 1.0) - 0.5));
     }
   }
   // local pixel size from the map's finite differences
@@ -414,8 +415,9 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
     constexpr int kEdgeSamples = 8;
     for (int i = 0; i <= kEdgeSamples; ++i) {
       const double t = static_cast<double>(i) / kEdgeSamples;
-      for (const Vec2& p : {Vec2(Lerp(lo.x(), hi.x(), t), lo.y()), Vec2(Lerp(lo.x(), hi.x(), t), hi.y()),
-                            Vec2(lo.x(), Lerp(lo.y(), hi.y(), t)), Vec2(hi.x(), Lerp(lo.y(), hi.y(), t))}) {
+      for (const Vec2& p :
+           {Vec2(Lerp(lo.x(), hi.x(), t), lo.y()), Vec2(Lerp(lo.x(), hi.x(), t), hi.y()),
+            Vec2(lo.x(), Lerp(lo.y(), hi.y(), t)), Vec2(hi.x(), Lerp(lo.y(), hi.y(), t))}) {
         const Vec2 px = m_model.TableToCamera(p);
         u0 = std::min(u0, px.x());
         u1 = std::max(u1, px.x());
@@ -438,7 +440,8 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
       for (int u = uBegin; u <= uEnd; ++u) {
         const Vec2 local = s.pose.Inverse(Vec2(tx[u], ty[u]));
         const double d = LocalDistance(s, &polygon, local);
-        const double coverage = std::clamp(0.5 - d / cmpp[u], 0.0, 1.0) * std::clamp(s.pressure, 0.0, 1.0);
+        const double coverage =
+            std::clamp(0.5 - d / cmpp[u], 0.0, 1.0) * std::clamp(s.pressure, 0.0, 1.0);
         c[u] = std::max(c[u], static_cast<float>(coverage));
         if (hand && haloWidth > 0.0) {
           const double glow = d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d / haloWidth);
@@ -475,10 +478,12 @@ cv::Mat SyntheticCamera::RenderTableImage(const cv::Mat& tableImage) {
     for (int v = 0; v < h; ++v) {
       for (int u = 0; u < w; ++u) {
         mapX.at<float>(v, u) = static_cast<float>(m_tableX.at<float>(v, u) * sx - 0.5);
-        mapY.at<float>(v, u) = static_cast<float>((m_table.height - m_tableY.at<float>(v, u)) * sy - 0.5);
+        mapY.at<float>(v, u) =
+            static_cast<float>((m_table.height - m_tableY.at<float>(v, u)) * sy - 0.5);
       }
     }
-    cv::remap(reflectance, contact, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::remap(reflectance, contact, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+              cv::Scalar(0));
   }
   return Compose(contact, cv::Mat::zeros(h, w, CV_32F));
 }

@@ -17,8 +17,8 @@ namespace pg {
 /// have (0, 0) at the centre of the top-left pixel, x right, y down.
 struct CameraModel {
   cv::Size imageSize{640, 480};
-  cv::Matx33d cameraMatrix = cv::Matx33d::eye();  ///< intrinsics K, pixels
-  cv::Vec<double, 5> distCoeffs{0, 0, 0, 0, 0};   ///< k1, k2, p1, p2, k3, non-dimensional
+  cv::Matx33d cameraMatrix = cv::Matx33d::eye();   ///< intrinsics K, pixels
+  cv::Vec<double, 5> distCoeffs{0, 0, 0, 0, 0};    ///< k1, k2, p1, p2, k3, non-dimensional
   cv::Matx33d cameraToTable = cv::Matx33d::eye();  ///< undistorted camera px -> table cm
 
   /// True when any distortion coefficient is non-zero.

@@ -57,9 +57,9 @@ class Sensor {
   bool m_configured = false;
   bool m_linear = true;  // camera -> table is affine (no distortion): map points without Newton
 
-  cv::Mat m_background;    // CV_8UC1
-  cv::Mat m_captureSum;    // CV_32F, while averaging the first frames
-  int m_captured = 0;      // frames averaged so far
+  cv::Mat m_background;  // CV_8UC1
+  cv::Mat m_captureSum;  // CV_32F, while averaging the first frames
+  int m_captured = 0;    // frames averaged so far
   double m_lastThreshold = 0.0;
 
   // scratch, reused every frame
