@@ -97,7 +97,8 @@ TEST_P(ContourAccuracy, WithinOnePixelOfTruth) {
     const double h = HausdorffPixels(camera.model(), truth, blob.contour);
     EXPECT_LE(h, 1.0) << c.name << " frame " << frame;
     // area and centroid follow from the outline: a 1 px band around the perimeter bounds them
-    const double cmpp = camera.model().CmPerPixel(camera.model().TableToCamera(PolygonCentroid(truth)));
+    const double cmpp =
+        camera.model().CmPerPixel(camera.model().TableToCamera(PolygonCentroid(truth)));
     const double truthArea = SignedArea(truth);
     EXPECT_NEAR(blob.area, truthArea, Perimeter(truth) * cmpp) << c.name;
     EXPECT_LT((blob.centroid - PolygonCentroid(truth)).norm(), cmpp) << c.name;
@@ -107,7 +108,6 @@ TEST_P(ContourAccuracy, WithinOnePixelOfTruth) {
 
 INSTANTIATE_TEST_SUITE_P(Shapes, ContourAccuracy, ::testing::ValuesIn(AccuracyCases()),
                          [](const auto& info) { return info.param.name; });
-
 
 // a sensor looking through a camera, with the true calibration and the noiseless background
 struct Rig {
@@ -286,7 +286,8 @@ TEST(Sensor, AutomaticThresholdFindsContacts) {
   sp.thresholdMode = ThresholdMode::kOtsu;
   Rig rig(HardCamera(), sp);
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
-  const ContactShape shapes[] = {Circle({20.0, 20.0}, 1.0), Make(ShapeKind::kHandFlat, {40, 20}, 0)};
+  const ContactShape shapes[] = {Circle({20.0, 20.0}, 1.0),
+                                 Make(ShapeKind::kHandFlat, {40, 20}, 0)};
   Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
   ASSERT_TRUE(r);
   EXPECT_EQ(r.value().blobs.size(), 2u);
@@ -321,15 +322,19 @@ TEST(Sensor, BadFramesGiveErrorsNamingTheFrame) {
   ASSERT_FALSE(empty);
   EXPECT_EQ(empty.error().Format(), "frame 7: empty frame (expected 640x480 8-bit grey, CV_8UC1)");
 
-  Result<ContourFrame> small = rig.sensor.Process(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), 8, 0.0);
+  Result<ContourFrame> small =
+      rig.sensor.Process(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), 8, 0.0);
   ASSERT_FALSE(small);
   EXPECT_EQ(small.error().Format(), "frame 8: frame is 320x240, expected 640x480");
 
-  Result<ContourFrame> colour = rig.sensor.Process(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0)), 9, 0.0);
+  Result<ContourFrame> colour =
+      rig.sensor.Process(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0)), 9, 0.0);
   ASSERT_FALSE(colour);
-  EXPECT_THAT(colour.error().Format(), HasSubstr("frame 9: frame type is CV_8UC3, expected CV_8UC1"));
+  EXPECT_THAT(colour.error().Format(),
+              HasSubstr("frame 9: frame type is CV_8UC3, expected CV_8UC1"));
 
-  Result<ContourFrame> floats = rig.sensor.Process(cv::Mat(480, 640, CV_32F, cv::Scalar(0)), 10, 0.0);
+  Result<ContourFrame> floats =
+      rig.sensor.Process(cv::Mat(480, 640, CV_32F, cv::Scalar(0)), 10, 0.0);
   ASSERT_FALSE(floats);
   EXPECT_THAT(floats.error().Format(), HasSubstr("frame 10: frame type is CV_32FC1"));
 
@@ -376,7 +381,8 @@ TEST(Sensor, CalibrationFileRoundTripGivesTheSameContours) {
   // the same calibration in memory and through a YAML file (with its background) sense alike
   Rig rig;
   const std::string path = ::testing::TempDir() + "/calib_true.yaml";
-  ASSERT_FALSE(SaveCalibration(path, CalibrationFromModel(rig.camera.model(), rig.camera.Background())));
+  ASSERT_FALSE(
+      SaveCalibration(path, CalibrationFromModel(rig.camera.model(), rig.camera.Background())));
   Sensor fromFile;
   SensingParams sp;
   sp.calibration = path;

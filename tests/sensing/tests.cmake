@@ -1,1 +1,3 @@
+proxygrasp_test(sensing calibration)
+proxygrasp_test(sensing synthetic_camera)
 proxygrasp_test(sensing sensor)
