@@ -49,9 +49,11 @@ TEST(CameraModel, DistortMatchesOpenCvProjectPoints) {
   const CameraModel m = DistortedModel();
   const cv::Matx33d k = m.cameraMatrix;
   const Vec2 undistorted(600.0, 30.0);
-  std::vector<cv::Point3d> object{{(undistorted.x() - k(0, 2)) / k(0, 0), (undistorted.y() - k(1, 2)) / k(1, 1), 1.0}};
+  std::vector<cv::Point3d> object{
+      {(undistorted.x() - k(0, 2)) / k(0, 0), (undistorted.y() - k(1, 2)) / k(1, 1), 1.0}};
   std::vector<cv::Point2d> image;
-  cv::projectPoints(object, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(k), cv::Mat(m.distCoeffs), image);
+  cv::projectPoints(object, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(k),
+                    cv::Mat(m.distCoeffs), image);
   const Vec2 ours = m.Distort(undistorted);
   EXPECT_NEAR(ours.x(), image[0].x, 1e-9);
   EXPECT_NEAR(ours.y(), image[0].y, 1e-9);
@@ -68,7 +70,8 @@ TEST(LinearCalibration, ImageEdgesAreTableEdges) {
 }
 
 TEST(Calibration, SaveLoadRoundTrip) {
-  Calibration c = CalibrationFromModel(DistortedModel(), cv::Mat(480, 640, CV_8UC1, cv::Scalar(37)));
+  Calibration c =
+      CalibrationFromModel(DistortedModel(), cv::Mat(480, 640, CV_8UC1, cv::Scalar(37)));
   c.tableToDisplay = cv::Matx33d(16, 0, 3, 0, -16, 760, 0, 0, 1);
   const std::string path = ::testing::TempDir() + "/roundtrip.yaml";
   ASSERT_FALSE(SaveCalibration(path, c));
@@ -77,8 +80,10 @@ TEST(Calibration, SaveLoadRoundTrip) {
   EXPECT_EQ(back.value().imageSize, c.imageSize);
   EXPECT_EQ(cv::norm(back.value().cameraMatrix, c.cameraMatrix, cv::NORM_INF), 0.0);
   EXPECT_EQ(cv::norm(back.value().distCoeffs, c.distCoeffs, cv::NORM_INF), 0.0);
-  EXPECT_EQ(cv::norm(cv::Mat(back.value().cameraToTable), cv::Mat(c.cameraToTable), cv::NORM_INF), 0.0);
-  EXPECT_EQ(cv::norm(cv::Mat(back.value().tableToDisplay), cv::Mat(c.tableToDisplay), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(cv::Mat(back.value().cameraToTable), cv::Mat(c.cameraToTable), cv::NORM_INF),
+            0.0);
+  EXPECT_EQ(cv::norm(cv::Mat(back.value().tableToDisplay), cv::Mat(c.tableToDisplay), cv::NORM_INF),
+            0.0);
   ASSERT_EQ(back.value().background.size(), cv::Size(640, 480));
   EXPECT_EQ(back.value().background.at<uint8_t>(100, 100), 37);
 }
@@ -90,7 +95,8 @@ TEST(Calibration, MissingFileNamesIt) {
 }
 
 TEST(Calibration, MalformedYamlNamesTheFile) {
-  const std::string path = WriteFile("malformed.yaml", "%YAML:1.0\ncamera_matrix: [1, 2\n  : : :\n");
+  const std::string path =
+      WriteFile("malformed.yaml", "%YAML:1.0\ncamera_matrix: [1, 2\n  : : :\n");
   Result<Calibration> r = LoadCalibration(path);
   ASSERT_FALSE(r);
   EXPECT_THAT(r.error().Format(), HasSubstr(path + ": not a valid OpenCV YAML file"));
@@ -107,18 +113,18 @@ TEST(Calibration, MissingFieldIsNamed) {
 }
 
 TEST(Calibration, MisshapenFieldIsNamed) {
-  const std::string path = WriteFile(
-      "misshapen.yaml",
-      "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
-      "camera_matrix: !!opencv-matrix\n  rows: 2\n  cols: 3\n  dt: d\n  data: [1, 0, 0, 0, 1, 0]\n");
+  const std::string path = WriteFile("misshapen.yaml",
+                                     "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+                                     "camera_matrix: !!opencv-matrix\n  rows: 2\n  cols: 3\n  dt: "
+                                     "d\n  data: [1, 0, 0, 0, 1, 0]\n");
   Result<Calibration> r = LoadCalibration(path);
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().Format(), path + ": field 'camera_matrix' must be a 3x3 matrix (got 2x3)");
 }
 
 TEST(Calibration, WrongTypeFieldIsNamed) {
-  const std::string path = WriteFile("wrongtype.yaml",
-                                     "%YAML:1.0\n---\nimage_width: wide\nimage_height: 480\n");
+  const std::string path =
+      WriteFile("wrongtype.yaml", "%YAML:1.0\n---\nimage_width: wide\nimage_height: 480\n");
   Result<Calibration> r = LoadCalibration(path);
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().Format(), path + ": field 'image_width' must be a positive integer");
@@ -131,7 +137,8 @@ TEST(Calibration, SingularHomographyIsRejected) {
   ASSERT_FALSE(SaveCalibration(path, c));
   Result<Calibration> r = LoadCalibration(path);
   ASSERT_FALSE(r);
-  EXPECT_THAT(r.error().Format(), HasSubstr(path + ": field 'camera_to_table' must be a finite, invertible"));
+  EXPECT_THAT(r.error().Format(),
+              HasSubstr(path + ": field 'camera_to_table' must be a finite, invertible"));
 }
 
 TEST(Calibration, BackgroundOfWrongSizeIsRejected) {

@@ -48,7 +48,8 @@ TEST(ShapeOutline, OutlineIsTheZeroLevelOfTheDistance) {
     const Contour c = ShapeOutline(s);
     ASSERT_GT(c.cols(), 50);
     double worst = 0.0;
-    for (int i = 0; i < c.cols(); ++i) worst = std::max(worst, std::abs(ShapeDistance(s, c.col(i))));
+    for (int i = 0; i < c.cols(); ++i)
+      worst = std::max(worst, std::abs(ShapeDistance(s, c.col(i))));
     EXPECT_LT(worst, 0.005) << kShapeKindNames[static_cast<int>(kind)];
     EXPECT_GT(SignedArea(c), 0.0) << "counter-clockwise";
   }
@@ -72,7 +73,8 @@ TEST(ShapeOutline, HandSizes) {
   EXPECT_NEAR((SignedArea(cup) - capArea) / centreline, 1.5, 0.02);
   EXPECT_NEAR(centreline + 1.5, 20.4, 1.5) << "about one hand long";
   // the five fingers are spread: the outline has five tips, i.e. a long perimeter
-  EXPECT_GT(Len(ShapeOutline(Shape(ShapeKind::kHandFive))), Len(ShapeOutline(Shape(ShapeKind::kHandFlat))) + 10.0);
+  EXPECT_GT(Len(ShapeOutline(Shape(ShapeKind::kHandFive))),
+            Len(ShapeOutline(Shape(ShapeKind::kHandFlat))) + 10.0);
 }
 
 TEST(ShapeOutline, PoseMovesTheOutline) {
@@ -135,7 +137,8 @@ TEST(SyntheticCamera, DeterministicForASeed) {
   SyntheticCameraParams p;
   const ContactShape shapes[] = {Shape(ShapeKind::kHandFive)};
   SyntheticCamera a(p, table), b(p, table);
-  for (int i = 0; i < 3; ++i) EXPECT_EQ(cv::norm(a.Render(shapes), b.Render(shapes), cv::NORM_INF), 0.0);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_EQ(cv::norm(a.Render(shapes), b.Render(shapes), cv::NORM_INF), 0.0);
   p.seed = 2;
   SyntheticCamera c(p, table);
   SyntheticCamera d(SyntheticCameraParams{}, table);
@@ -186,8 +189,8 @@ TEST(SyntheticCamera, RenderTableImageUsesTheSameModel) {
   EXPECT_GT(frame.at<uint8_t>(std::lround(inside.y()), std::lround(inside.x())), 200);
   EXPECT_LT(frame.at<uint8_t>(std::lround(outside.y()), std::lround(outside.x())), 60);
   // an empty table image is the clear table
-  EXPECT_LE(cv::norm(camera.RenderTableImage(cv::Mat(460, 610, CV_8UC1, cv::Scalar(0))), camera.Background(),
-                     cv::NORM_INF),
+  EXPECT_LE(cv::norm(camera.RenderTableImage(cv::Mat(460, 610, CV_8UC1, cv::Scalar(0))),
+                     camera.Background(), cv::NORM_INF),
             1.0);
 }
 
