@@ -69,7 +69,8 @@ TEST(FolderSource, EmptyFolderAndWrongKinds) {
   const std::string dir = FreshDir("empty");
   Result<std::unique_ptr<FrameSource>> r = OpenFrameSource(dir);
   ASSERT_FALSE(r);
-  EXPECT_EQ(r.error().Format(), dir + ": the folder holds no image files (png, jpg, bmp, tif, pgm, ppm)");
+  EXPECT_EQ(r.error().Format(),
+            dir + ": the folder holds no image files (png, jpg, bmp, tif, pgm, ppm)");
   r = OpenFrameSource("video:" + dir);
   ASSERT_FALSE(r);
   EXPECT_THAT(r.error().Format(), HasSubstr("is a directory"));
@@ -91,7 +92,8 @@ TEST(OpenFrameSource, MissingPathsAndBadSpecs) {
   EXPECT_THAT(r.error().Format(), HasSubstr("camera index must be a number"));
   r = OpenFrameSource("synthetic:nothing");
   ASSERT_FALSE(r);
-  EXPECT_THAT(r.error().Format(), HasSubstr("unknown synthetic scene 'nothing' (known: fingers, hands)"));
+  EXPECT_THAT(r.error().Format(),
+              HasSubstr("unknown synthetic scene 'nothing' (known: fingers, hands)"));
   r = OpenFrameSource("/dev/video99");
   ASSERT_FALSE(r);
   EXPECT_THAT(r.error().Format(), HasSubstr("/dev/video99"));
@@ -117,7 +119,8 @@ TEST(VideoSource, ReadsAVideoFileAsGreyFrames) {
   const std::string dir = FreshDir("video");
   const std::string file = dir + "/clip.avi";
   {
-    cv::VideoWriter writer(file, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30.0, cv::Size(64, 48), true);
+    cv::VideoWriter writer(file, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30.0,
+                           cv::Size(64, 48), true);
     if (!writer.isOpened()) GTEST_SKIP() << "this OpenCV build cannot write MJPG AVI files";
     for (int i = 0; i < 5; ++i) writer.write(Numbered(i + 1, CV_8UC3));
   }
@@ -152,14 +155,15 @@ TEST(SyntheticSource, DemoScenesRenderThroughTheCamera) {
 
 TEST(SyntheticSource, ScriptEndsTheStream) {
   int calls = 0;
-  SyntheticSource src("three", SyntheticCameraParams{}, TableParams{},
-                      [&calls](int64_t frame, std::vector<ContactShape>& shapes) {
-                        ++calls;
-                        shapes.assign(1, ContactShape{});
-                        shapes[0].pose.pos = {10.0 + frame, 10.0};
-                        return frame < 3;
-                      },
-                      -1);
+  SyntheticSource src(
+      "three", SyntheticCameraParams{}, TableParams{},
+      [&calls](int64_t frame, std::vector<ContactShape>& shapes) {
+        ++calls;
+        shapes.assign(1, ContactShape{});
+        shapes[0].pose.pos = {10.0 + frame, 10.0};
+        return frame < 3;
+      },
+      -1);
   cv::Mat frame;
   for (int i = 0; i < 3; ++i) {
     ASSERT_EQ(src.Read(frame), FrameStatus::kOk);
@@ -168,12 +172,13 @@ TEST(SyntheticSource, ScriptEndsTheStream) {
   EXPECT_EQ(src.Read(frame), FrameStatus::kEnd);
   EXPECT_EQ(calls, 4);
   // a frame count stops it earlier
-  SyntheticSource two("two", SyntheticCameraParams{}, TableParams{},
-                      [](int64_t, std::vector<ContactShape>& shapes) {
-                        shapes.clear();
-                        return true;
-                      },
-                      2);
+  SyntheticSource two(
+      "two", SyntheticCameraParams{}, TableParams{},
+      [](int64_t, std::vector<ContactShape>& shapes) {
+        shapes.clear();
+        return true;
+      },
+      2);
   EXPECT_EQ(two.Read(frame), FrameStatus::kOk);
   EXPECT_EQ(two.Read(frame), FrameStatus::kOk);
   EXPECT_EQ(two.Read(frame), FrameStatus::kEnd);

@@ -19,7 +19,8 @@ Blob BlobAt(double x, double y, double area = 2.0) {
   b.area = area;
   const double r = std::sqrt(area / kPi);
   b.contour = Contour(2, 8);
-  for (int i = 0; i < 8; ++i) b.contour.col(i) = b.centroid + r * Vec2(std::cos(i * kPi / 4), std::sin(i * kPi / 4));
+  for (int i = 0; i < 8; ++i)
+    b.contour.col(i) = b.centroid + r * Vec2(std::cos(i * kPi / 4), std::sin(i * kPi / 4));
   b.boundsMin = b.centroid - Vec2(r, r);
   b.boundsMax = b.centroid + Vec2(r, r);
   return b;
@@ -132,7 +133,8 @@ TEST(Tracker, IdsAreNeverReused) {
   std::set<ContactId> seen;
   for (int i = 0; i < 20; ++i) {
     // a contact appears every other frame and vanishes the next
-    ContactSet s = t.Update(p, Frame(i, i % 2 == 0 ? std::vector<Blob>{BlobAt(10, 10)} : std::vector<Blob>{}));
+    ContactSet s =
+        t.Update(p, Frame(i, i % 2 == 0 ? std::vector<Blob>{BlobAt(10, 10)} : std::vector<Blob>{}));
     for (const Contact& c : s.contacts) {
       if (c.state == ContactState::kNew) {
         EXPECT_TRUE(seen.insert(c.id).second) << "id " << c.id << " reused";
@@ -198,7 +200,8 @@ TEST(TrackerPipeline, TenFingertipsKeepTheirIdsFor200Frames) {
       // which fingertip is this? the one whose centre is nearest the blob's centroid
       int nearest = 0;
       for (int i = 1; i < 10; ++i)
-        if ((shapes[i].pose.pos - c.blob.centroid).norm() < (shapes[nearest].pose.pos - c.blob.centroid).norm())
+        if ((shapes[i].pose.pos - c.blob.centroid).norm() <
+            (shapes[nearest].pose.pos - c.blob.centroid).norm())
           nearest = i;
       // a disc's centroid is its centre: within a tenth of a pixel or so
       EXPECT_LT((shapes[nearest].pose.pos - c.blob.centroid).norm(), 0.05);
@@ -207,7 +210,8 @@ TEST(TrackerPipeline, TenFingertipsKeepTheirIdsFor200Frames) {
         idOf[nearest] = c.id;
       } else {
         EXPECT_EQ(c.state, ContactState::kContinuing) << "frame " << frame;
-        EXPECT_EQ(c.id, idOf[nearest]) << "fingertip " << nearest << " changed id at frame " << frame;
+        EXPECT_EQ(c.id, idOf[nearest])
+            << "fingertip " << nearest << " changed id at frame " << frame;
       }
     }
   }
