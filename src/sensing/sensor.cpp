@@ -223,7 +223,7 @@ void Sensor::ExtractBlobs(std::vector<Blob>& blobs) {
   cv::findContours(m_binary, m_contours, m_hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE);
   for (size_t i = 0; i < m_contours.size(); ++i) {
     if (m_hierarchy[i][3] >= 0) continue;  // a hole's border: holes are ignored
-    std::vector<cv::Point>& pixels = m_contours[i];
+    const std::vector<cv::Point>& pixels = m_contours[i];
 
     // cheap reject of specks: the pixel-centre polygon plus half a pixel all round
     const double cmpp = m_model.CmPerPixel(Vec2(pixels[0].x, pixels[0].y));
@@ -256,7 +256,7 @@ void Sensor::ExtractBlobs(std::vector<Blob>& blobs) {
             [](const Blob& a, const Blob& b) { return a.area > b.area; });
 }
 
-void Sensor::RefineToEdge(std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const {
+void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const {
   const int n = static_cast<int>(pixels.size());
   out.resize(pixels.size());
   for (int i = 0; i < n; ++i) out[i] = Vec2(pixels[i].x, pixels[i].y);

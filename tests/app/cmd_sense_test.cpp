@@ -35,7 +35,8 @@ int Count(const std::string& s, const std::string& what) {
 // the first contact's centroid in a JSON line
 Vec2 Centroid(const std::string& line) {
   std::smatch m;
-  if (!std::regex_search(line, m, std::regex(R"("centroid": \[([-0-9.]+), ([-0-9.]+)\])"))) return Vec2(-1e9, -1e9);
+  if (!std::regex_search(line, m, std::regex(R"("centroid": \[([-0-9.]+), ([-0-9.]+)\])")))
+    return Vec2(-1e9, -1e9);
   return Vec2(std::stod(m[1].str()), std::stod(m[2].str()));
 }
 
@@ -46,7 +47,8 @@ TEST(SenseCommand, SyntheticFingersPrintOneJsonObjectPerFrame) {
   ASSERT_EQ(lines.size(), 9u) << r.output.substr(0, 500);
   // the demo starts with a clear table for five frames, then ten fingertips touch down together
   for (int i = 0; i < 9; ++i) {
-    EXPECT_EQ(lines[i].rfind("{\"frame\": " + std::to_string(i) + ", \"contacts\": [", 0), 0u) << lines[i].substr(0, 80);
+    EXPECT_EQ(lines[i].rfind("{\"frame\": " + std::to_string(i) + ", \"contacts\": [", 0), 0u)
+        << lines[i].substr(0, 80);
     EXPECT_EQ(lines[i].back(), '}');
   }
   EXPECT_EQ(lines[4], "{\"frame\": 4, \"contacts\": []}");
@@ -56,7 +58,10 @@ TEST(SenseCommand, SyntheticFingersPrintOneJsonObjectPerFrame) {
   // ids 1..10, numbers with four decimals, contours as [[x, y], ...]
   EXPECT_THAT(lines[8], HasSubstr("\"id\": 10,"));
   EXPECT_THAT(lines[8], Not(HasSubstr("\"id\": 11,")));
-  EXPECT_TRUE(std::regex_search(lines[8], std::regex(R"("centroid": \[\d+\.\d{4}, \d+\.\d{4}\], "area": \d+\.\d{4}, "contour": \[\[\d+\.\d{4}, \d+\.\d{4}\], \[)")))
+  EXPECT_TRUE(std::regex_search(
+      lines[8],
+      std::regex(
+          R"("centroid": \[\d+\.\d{4}, \d+\.\d{4}\], "area": \d+\.\d{4}, "contour": \[\[\d+\.\d{4}, \d+\.\d{4}\], \[)")))
       << lines[8].substr(0, 300);
 }
 
@@ -121,7 +126,8 @@ TEST(SenseCommand, MissingInput) {
 }
 
 TEST(SenseCommand, MissingAndMalformedCalibration) {
-  const auto missing = RunProxygrasp("sense synthetic:fingers --frames 2 --calibration /no/calib.yaml");
+  const auto missing =
+      RunProxygrasp("sense synthetic:fingers --frames 2 --calibration /no/calib.yaml");
   EXPECT_EQ(missing.exitCode, 2);
   EXPECT_THAT(missing.output, HasSubstr("/no/calib.yaml: calibration file not found"));
 

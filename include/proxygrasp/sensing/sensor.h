@@ -47,7 +47,7 @@ class Sensor {
 
  private:
   void ExtractBlobs(std::vector<Blob>& blobs);
-  void RefineToEdge(std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const;
+  void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const;
   void BuildTableMaps();
 
   SensingParams m_params;

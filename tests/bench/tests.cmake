@@ -1,0 +1,1 @@
+proxygrasp_bench(sensing LIBS pg_tracking)
