@@ -29,7 +29,8 @@ void Describe(SensingParams& p, ParamVisitor& v) {
   v.Integer("background_frames", p.backgroundFrames, 0, 600, "frames",
             "clear-table frames averaged into the background at start (0 = estimate it from the "
             "first frame); unused when the calibration file holds a background");
-  v.Integer("morphology", p.morphology, 0, 8, "px", "radius of the open/close clean-up");
+  v.Integer("morphology", p.morphology, 0, 8, "px",
+            "radius of the opening that removes specks and one-pixel bridges (0 = none)");
   v.Real("min_area", p.minArea, 0, 1000, "cm^2", "smallest contact kept");
   v.Real("spacing", p.spacing, 0.05, 5, "cm", "arc-length spacing of resampled contours");
   v.Boolean(

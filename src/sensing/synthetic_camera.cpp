@@ -83,11 +83,13 @@ const HandModel& HandFor(ShapeKind kind) {
   }();
   static const HandModel kFlat = [] {
     HandModel h;
-    h.fingers = {{{-3.3, -2.5}, 12, 5.0, 1.0},
-                 {{-2.4, 4.0}, 0, 7.4, 0.9},
-                 {{-0.8, 4.2}, 0, 8.6, 0.9},
-                 {{0.8, 4.1}, 0, 8.0, 0.9},
-                 {{2.4, 3.6}, 0, 6.4, 0.8}};
+    // fingers side by side, overlapping a little, as wide together as the palm; the thumb lies
+    // along the palm's side
+    h.fingers = {{{-3.4, -2.5}, 10, 5.2, 1.0},
+                 {{-2.6, 4.0}, 0, 7.4, 0.95},
+                 {{-0.87, 4.2}, 0, 8.6, 0.95},
+                 {{0.87, 4.1}, 0, 8.0, 0.95},
+                 {{2.6, 3.6}, 0, 6.4, 0.85}};
     h.blend = 0.6;
     return h;
   }();
