@@ -24,11 +24,20 @@ void Describe(SensingParams& p, ParamVisitor& v) {
   VisitEnum(v, "threshold_mode", p.thresholdMode, kThresholdModeNames,
             "fixed threshold, or automatic (Otsu)");
   v.Real("threshold", p.threshold, 1, 254, "grey", "fixed threshold on the normalized image");
+  v.Real("auto_floor", p.autoFloor, 1, 254, "grey",
+         "lowest threshold the automatic (Otsu) mode may pick, so an empty table stays empty");
   v.Integer("background_frames", p.backgroundFrames, 0, 600, "frames",
-            "frames averaged into the background at start (0 = use the first frame model)");
-  v.Integer("morphology", p.morphology, 0, 8, "px", "radius of the open/close clean-up");
+            "clear-table frames averaged into the background at start (0 = estimate it from the "
+            "first frame); unused when the calibration file holds a background");
+  v.Integer("morphology", p.morphology, 0, 8, "px",
+            "radius of the opening that removes specks and one-pixel bridges (0 = none)");
   v.Real("min_area", p.minArea, 0, 1000, "cm^2", "smallest contact kept");
   v.Real("spacing", p.spacing, 0.05, 5, "cm", "arc-length spacing of resampled contours");
+  v.Boolean(
+      "subpixel", p.subpixel,
+      "move contour points onto the half-contrast edge (sub-pixel) before mapping to the table");
+  v.Real("table_cm_per_pixel", p.tableCmPerPixel, 0.02, 2, "cm",
+         "pixel size of the table-aligned contact image (instant mode, drawing)");
 }
 
 }  // namespace pg

@@ -1,2 +1,3 @@
 proxygrasp_test(app main)
 proxygrasp_test(app cmd_params)
+proxygrasp_test(app cmd_sense LIBS pg_sensing)

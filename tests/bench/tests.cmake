@@ -1,2 +1,3 @@
-proxygrasp_bench(proxies LIBS pg_proxies)
 proxygrasp_bench(physics LIBS pg_physics)
+proxygrasp_bench(proxies LIBS pg_proxies)
+proxygrasp_bench(sensing LIBS pg_tracking)

@@ -68,11 +68,14 @@ inline constexpr const char* kThresholdModeNames[] = {"fixed", "auto"};
 struct SensingParams {
   std::string calibration;  ///< calibration YAML file, "" maps the image linearly
   ThresholdMode thresholdMode = ThresholdMode::kFixed;  ///< fixed level or automatic (Otsu)
-  double threshold = 60.0;   ///< fixed threshold on the normalized image, 8-bit grey
-  int backgroundFrames = 0;  ///< frames averaged into the background at start (0 = model)
-  int morphology = 1;        ///< radius of the open/close clean-up, pixels (0 = none)
-  double minArea = 0.5;      ///< smallest contact kept, cm^2
-  double spacing = 0.3;      ///< arc-length spacing of resampled contours, cm
+  double threshold = 60.0;       ///< fixed threshold on the normalized image, 8-bit grey
+  double autoFloor = 30.0;       ///< lowest threshold the automatic mode may pick, 8-bit grey
+  int backgroundFrames = 0;      ///< frames averaged into the background at start (0 = estimate)
+  int morphology = 1;            ///< radius of the clean-up opening, pixels (0 = none)
+  double minArea = 0.5;          ///< smallest contact kept, cm^2
+  double spacing = 0.3;          ///< arc-length spacing of resampled contours, cm
+  bool subpixel = true;          ///< move contour points onto the half-contrast edge, sub-pixel
+  double tableCmPerPixel = 0.1;  ///< pixel size of the table-aligned image (when asked), cm
 };
 
 /// One connected component: an evenly resampled outer contour and its summary, in table cm.

@@ -1,0 +1,82 @@
+// The sensing stage: camera frame -> level normalization -> threshold -> clean-up -> connected
+// components -> exact outer contours (sub-pixel) -> table cm -> even arc-length resampling.
+#pragma once
+
+#include "proxygrasp/core/error.h"
+#include "proxygrasp/core/table.h"
+#include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/types.h"
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace pg {
+
+/// Turns camera frames into contour frames. Holds the calibration, the background and scratch
+/// images, so Process allocates little per frame.
+class Sensor {
+ public:
+  /// Reads params.calibration (or uses LinearCalibration when it is ""), checks that it matches
+  /// imageSize, and resets the background. Errors name the calibration file and field.
+  Status Configure(const SensingParams& params, const TableParams& table, cv::Size imageSize);
+  /// Same, with a calibration already in memory; `source` names it in errors.
+  Status Configure(const SensingParams& params, const TableParams& table,
+                   const Calibration& calibration, const std::string& source = "calibration");
+
+  /// Processes one CV_8UC1 frame of the configured size. A wrong size or type, or an empty frame,
+  /// is an Error naming the frame index and what was expected. While the background is being
+  /// captured (SensingParams::backgroundFrames) the frame has no blobs.
+  Result<ContourFrame> Process(const cv::Mat& frame, int64_t index, double time,
+                               bool wantTableImage = false);
+
+  /// Uses this clear-table frame (CV_8UC1, configured size) as the background from now on.
+  Status SetBackground(const cv::Mat& background);
+  /// True once a background is known (set, loaded, captured or estimated).
+  bool HasBackground() const { return !m_background.empty(); }
+  /// The background in use (empty before the first frame when none was set), CV_8UC1.
+  const cv::Mat& Background() const { return m_background; }
+
+  /// The threshold used on the last frame, 8-bit grey above background.
+  double LastThreshold() const { return m_lastThreshold; }
+  const CameraModel& model() const { return m_model; }
+  const Calibration& calibration() const { return m_calibration; }
+  const SensingParams& params() const { return m_params; }
+  bool configured() const { return m_configured; }
+
+ private:
+  void ExtractBlobs(std::vector<Blob>& blobs);
+  void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const;
+  void BuildTableMaps();
+
+  SensingParams m_params;
+  TableParams m_table;
+  Calibration m_calibration;
+  CameraModel m_model;
+  bool m_configured = false;
+  bool m_linear = true;  // camera -> table is affine (no distortion): map points without Newton
+
+  cv::Mat m_background;  // CV_8UC1
+  cv::Mat m_captureSum;  // CV_32F, while averaging the first frames
+  int m_captured = 0;    // frames averaged so far
+  double m_lastThreshold = 0.0;
+
+  // scratch, reused every frame
+  cv::Mat m_normalized;  // CV_8UC1 frame - background
+  cv::Mat m_binary;      // CV_8UC1 0/255
+  cv::Mat m_kernel;
+  std::vector<std::vector<cv::Point>> m_contours;
+  std::vector<cv::Vec4i> m_hierarchy;
+  std::vector<Vec2> m_refined;
+
+  // table image maps (built on first request)
+  cv::Mat m_tableMapX, m_tableMapY;
+};
+
+/// Estimates a clear-table background from one frame that may show contacts: the lower quartile of
+/// 32x32-pixel blocks, with blocks much brighter than the median (covered by a hand) filled from
+/// their neighbours, then smoothly interpolated back to full size. CV_8UC1 in, CV_8UC1 out.
+cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin);
+
+}  // namespace pg

@@ -1,0 +1,80 @@
+// The synthetic table camera: renders contact shapes placed in table cm into 8-bit frames that look
+// like a diffuse-illumination table seen from below (bright contacts, a dim halo around hands,
+// vignetting, a background gradient, Gaussian noise, optional lens distortion and perspective), and
+// reports the true outlines so tests can measure the sensing pipeline against them.
+#pragma once
+
+#include "proxygrasp/core/geometry.h"
+#include "proxygrasp/core/rng.h"
+#include "proxygrasp/core/table.h"
+#include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/types.h"
+
+#include <opencv2/core.hpp>
+
+#include <span>
+#include <vector>
+
+namespace pg {
+
+/// Signed distance from a table point to the shape's boundary, cm: negative inside. Exact for
+/// circles, capsules and polygons; a close approximation near the boundary of ellipses; hands are
+/// smooth unions of a palm and finger capsules (their zero level is exact).
+double ShapeDistance(const ContactShape& shape, const Vec2& tablePoint);
+
+/// The true outline of a shape in table cm, counter-clockwise, densely sampled (<= 0.05 cm apart
+/// on curves; polygons keep their exact vertices).
+Contour ShapeOutline(const ContactShape& shape);
+
+/// Axis-aligned bounds of a shape's outline in table cm: {min, max}.
+std::pair<Vec2, Vec2> ShapeBounds(const ContactShape& shape);
+
+/// A ten-fingertip or a two-hand demo scene at a frame, as the `synthetic:` sources show them.
+/// `name` is "fingers" or "hands"; returns false for an unknown name.
+bool DemoScene(const std::string& name, int64_t frame, const TableParams& table,
+               std::vector<ContactShape>& shapes);
+
+/// Renders contact shapes as a camera under the table would see them. Deterministic: the same
+/// params (seed included) and the same calls give the same frames.
+class SyntheticCamera {
+ public:
+  SyntheticCamera(const SyntheticCameraParams& params, const TableParams& table);
+
+  /// Renders one CV_8UC1 frame of params.width x params.height. Draws each shape at its pose;
+  /// hands get a halo. Advances the noise generator.
+  cv::Mat Render(std::span<const ContactShape> shapes);
+
+  /// The true outlines of the shapes, one per shape, in table cm (see ShapeOutline).
+  std::vector<Contour> TrueOutlines(std::span<const ContactShape> shapes) const;
+
+  /// Renders an arbitrary table-space image through the same camera model (perspective,
+  /// distortion, vignetting, background, noise). tableImage (CV_8UC1) covers the whole table: its
+  /// top-left corner is table point (0, height) and its bottom-right (width, 0). Its grey levels
+  /// are reflectances: 0 shows the background, 255 full contact level.
+  cv::Mat RenderTableImage(const cv::Mat& tableImage);
+
+  /// The clear-table image without noise (what averaging many empty frames gives), CV_8UC1.
+  cv::Mat Background() const;
+
+  /// The true camera model: intrinsics, distortion and the camera -> table homography.
+  const CameraModel& model() const { return m_model; }
+  const SyntheticCameraParams& params() const { return m_params; }
+
+ private:
+  // composes contact coverage c and halo h (both CV_32F, 0..1) into a noisy 8-bit frame
+  cv::Mat Compose(const cv::Mat& contact, const cv::Mat& halo);
+
+  SyntheticCameraParams m_params;
+  TableParams m_table;
+  CameraModel m_model;
+  Rng m_rng;
+  cv::Mat m_tableX, m_tableY;  // CV_32F: the table point each pixel sees, cm
+  cv::Mat m_cmPerPixel;        // CV_32F: local pixel size, cm
+  cv::Mat m_gain;              // CV_32F: vignetting gain, 0..1
+  cv::Mat m_background;        // CV_32F: background level before vignetting, grey
+};
+
+/// The camera model a SyntheticCamera with these params uses.
+CameraModel SyntheticCameraModel(const SyntheticCameraParams& params, const TableParams& table);
+
+}  // namespace pg

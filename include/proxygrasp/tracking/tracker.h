@@ -1,0 +1,42 @@
+// The tracking stage: associates each frame's connected components with the contacts of the last
+// frame, nearest first, and hands out ids that are never reused. Merge and split policy: see
+// docs/sensing.md ("Tracking").
+#pragma once
+
+#include "proxygrasp/core/ids.h"
+#include "proxygrasp/sensing/types.h"
+#include "proxygrasp/tracking/types.h"
+
+#include <vector>
+
+namespace pg {
+
+/// Frame-to-frame contact association with stable ids.
+class Tracker {
+ public:
+  /// Matches frame's blobs to the last frame's contacts: every pair of (last contact, blob) whose
+  /// centroids are within params.maxDistance cm is a candidate; candidates are taken globally
+  /// nearest first, each contact and blob at most once. Matched blobs continue their contact's id;
+  /// unmatched blobs are new (fresh id); unmatched last contacts are lifted and listed once, with
+  /// their last blob, after the current contacts.
+  ContactSet Update(const TrackingParams& params, const ContourFrame& frame);
+
+  /// Forgets all contacts (the next frame's blobs are all new). Ids keep counting up.
+  void Reset();
+
+  /// The contacts currently on the table (after the last Update), lifted ones excluded.
+  const std::vector<Contact>& current() const { return m_current; }
+
+ private:
+  struct Candidate {
+    double distance;
+    int previous;
+    int blob;
+  };
+
+  std::vector<Contact> m_current;
+  IdCounter m_ids;
+  std::vector<Candidate> m_candidates;  // scratch
+};
+
+}  // namespace pg

@@ -1,0 +1,336 @@
+#include "proxygrasp/sensing/sensor.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace pg {
+
+namespace {
+
+std::string SizeText(cv::Size s) {
+  return std::to_string(s.width) + "x" + std::to_string(s.height);
+}
+
+// bilinear sample of an 8-bit image at a sub-pixel position, clamped to the border
+inline float Sample(const cv::Mat& img, double x, double y) {
+  const int w = img.cols, h = img.rows;
+  x = std::clamp(x, 0.0, w - 1.0);
+  y = std::clamp(y, 0.0, h - 1.0);
+  const int x0 = std::min(static_cast<int>(x), w - 2 < 0 ? 0 : w - 2);
+  const int y0 = std::min(static_cast<int>(y), h - 2 < 0 ? 0 : h - 2);
+  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const uint8_t* r0 = img.ptr<uint8_t>(y0);
+  const uint8_t* r1 = img.ptr<uint8_t>(y1);
+  const float top = r0[x0] + (r0[x1] - r0[x0]) * fx;
+  const float bottom = r1[x0] + (r1[x1] - r1[x0]) * fx;
+  return top + (bottom - top) * fy;
+}
+
+Vec2 ApplyHomography(const cv::Matx33d& h, double x, double y) {
+  const double w = h(2, 0) * x + h(2, 1) * y + h(2, 2);
+  return Vec2((h(0, 0) * x + h(0, 1) * y + h(0, 2)) / w, (h(1, 0) * x + h(1, 1) * y + h(1, 2)) / w);
+}
+
+}  // namespace
+
+cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin) {
+  assert(frame.type() == CV_8UC1 && "background estimate needs an 8-bit grey frame");
+  constexpr int kBlock = 32;  // px
+  const int bw = (frame.cols + kBlock - 1) / kBlock;
+  const int bh = (frame.rows + kBlock - 1) / kBlock;
+  cv::Mat level(bh, bw, CV_32F);
+  // lower quartile of each block: the background unless a contact covers most of the block
+  for (int by = 0; by < bh; ++by) {
+    for (int bx = 0; bx < bw; ++bx) {
+      const cv::Rect r(bx * kBlock, by * kBlock, std::min(kBlock, frame.cols - bx * kBlock),
+                       std::min(kBlock, frame.rows - by * kBlock));
+      std::array<int, 256> hist{};
+      for (int y = r.y; y < r.y + r.height; ++y) {
+        const uint8_t* row = frame.ptr<uint8_t>(y);
+        for (int x = r.x; x < r.x + r.width; ++x) ++hist[row[x]];
+      }
+      const int quarter = r.area() / 4;
+      int seen = 0, value = 0;
+      while (value < 255 && seen + hist[value] <= quarter) seen += hist[value++];
+      level.at<float>(by, bx) = static_cast<float>(value);
+    }
+  }
+  // blocks much brighter than the median are covered: fill them from their clear neighbours
+  std::vector<float> sorted(level.begin<float>(), level.end<float>());
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const float median = sorted[sorted.size() / 2];
+  cv::Mat known(bh, bw, CV_8UC1);
+  for (int i = 0; i < bh * bw; ++i)
+    known.at<uint8_t>(i) = level.at<float>(i) <= median + coveredMargin ? 1 : 0;
+  for (int pass = 0; pass < bw + bh; ++pass) {
+    bool changed = false;
+    cv::Mat nextKnown = known.clone();
+    for (int by = 0; by < bh; ++by) {
+      for (int bx = 0; bx < bw; ++bx) {
+        if (known.at<uint8_t>(by, bx)) continue;
+        float sum = 0.0f;
+        int n = 0;
+        for (const cv::Point d :
+             {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
+          const int x = bx + d.x, y = by + d.y;
+          if (x < 0 || y < 0 || x >= bw || y >= bh || !known.at<uint8_t>(y, x)) continue;
+          sum += level.at<float>(y, x);
+          ++n;
+        }
+        if (n > 0) {
+          level.at<float>(by, bx) = sum / n;
+          nextKnown.at<uint8_t>(by, bx) = 1;
+          changed = true;
+        }
+      }
+    }
+    known = nextKnown;
+    if (!changed) break;
+  }
+  // nothing clear at all: fall back to the median everywhere
+  for (int i = 0; i < bh * bw; ++i)
+    if (!known.at<uint8_t>(i)) level.at<float>(i) = median;
+
+  cv::Mat full;
+  cv::resize(level, full, cv::Size(bw * kBlock, bh * kBlock), 0, 0, cv::INTER_LINEAR);
+  cv::Mat out;
+  full(cv::Rect(0, 0, frame.cols, frame.rows)).convertTo(out, CV_8UC1);
+  return out;
+}
+
+Status Sensor::Configure(const SensingParams& params, const TableParams& table,
+                         cv::Size imageSize) {
+  if (params.calibration.empty())
+    return Configure(params, table, LinearCalibration(imageSize, table), "linear calibration");
+  Result<Calibration> c = LoadCalibration(params.calibration);
+  if (!c) return c.error();
+  if (c.value().imageSize != imageSize)
+    return MakeError({params.calibration}, "field 'image_width'/'image_height' is " +
+                                               SizeText(c.value().imageSize) +
+                                               " but the camera delivers " + SizeText(imageSize));
+  return Configure(params, table, c.value(), params.calibration);
+}
+
+Status Sensor::Configure(const SensingParams& params, const TableParams& table,
+                         const Calibration& calibration, const std::string& source) {
+  m_configured = false;
+  if (!(params.spacing > 0.0)) return MakeError({"sensing.spacing"}, "must be > 0");
+  if (params.minArea < 0.0) return MakeError({"sensing.min_area"}, "must be >= 0");
+  if (params.morphology < 0) return MakeError({"sensing.morphology"}, "must be >= 0");
+  if (!(params.tableCmPerPixel > 0.0))
+    return MakeError({"sensing.table_cm_per_pixel"}, "must be > 0");
+  Result<CameraModel> model = ModelFromCalibration(calibration, source);
+  if (!model) return model.error();
+
+  m_params = params;
+  m_table = table;
+  m_calibration = calibration;
+  m_model = model.value();
+  m_linear = !m_model.HasDistortion();
+  m_background = calibration.background.empty() ? cv::Mat() : calibration.background.clone();
+  m_captureSum.release();
+  m_captured = 0;
+  m_tableMapX.release();
+  m_tableMapY.release();
+  m_kernel = params.morphology > 0
+                 ? cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * params.morphology + 1,
+                                                                         2 * params.morphology + 1))
+                 : cv::Mat();
+  m_configured = true;
+  return std::nullopt;
+}
+
+Status Sensor::SetBackground(const cv::Mat& background) {
+  const cv::Size expected = m_model.imageSize;
+  if (background.empty() || background.type() != CV_8UC1 || background.size() != expected)
+    return MakeError({"background"},
+                     "must be an 8-bit grey (CV_8UC1) image of " + SizeText(expected));
+  m_background = background.clone();
+  m_captureSum.release();
+  m_captured = 0;
+  return std::nullopt;
+}
+
+Result<ContourFrame> Sensor::Process(const cv::Mat& frame, int64_t index, double time,
+                                     bool wantTableImage) {
+  const SourceLoc where{"frame " + std::to_string(index)};
+  if (!m_configured) return MakeError(where, "the sensor is not configured");
+  const cv::Size expected = m_model.imageSize;
+  // reject what the pipeline cannot read, saying what it expected
+  if (frame.empty())
+    return MakeError(where,
+                     "empty frame (expected " + SizeText(expected) + " 8-bit grey, CV_8UC1)");
+  if (frame.type() != CV_8UC1)
+    return MakeError(where, "frame type is " + cv::typeToString(frame.type()) +
+                                ", expected CV_8UC1 (8-bit grey)");
+  if (frame.size() != expected)
+    return MakeError(where,
+                     "frame is " + SizeText(frame.size()) + ", expected " + SizeText(expected));
+
+  ContourFrame out;
+  out.index = index;
+  out.time = time;
+
+  // background: loaded or set, else averaged over the first frames, else estimated from this one
+  if (m_background.empty()) {
+    if (m_params.backgroundFrames > 0) {
+      if (m_captureSum.empty()) m_captureSum = cv::Mat::zeros(expected, CV_32F);
+      cv::accumulate(frame, m_captureSum);
+      if (++m_captured >= m_params.backgroundFrames) {
+        m_captureSum.convertTo(m_background, CV_8UC1, 1.0 / m_captured);
+        m_captureSum.release();
+      }
+      return out;
+    }
+    m_background = EstimateBackground(frame, 0.5 * m_params.threshold);
+  }
+
+  // level normalization, threshold, and an opening that removes specks and one-pixel bridges (no
+  // closing: holes are ignored anyway, and closing would fill finger crotches and join fingers)
+  cv::subtract(frame, m_background, m_normalized);
+  double level = m_params.threshold;
+  if (m_params.thresholdMode == ThresholdMode::kOtsu) {
+    cv::Mat scratch;
+    level =
+        std::max(cv::threshold(m_normalized, scratch, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU),
+                 m_params.autoFloor);
+  }
+  m_lastThreshold = level;
+  cv::threshold(m_normalized, m_binary, level, 255, cv::THRESH_BINARY);
+  if (!m_kernel.empty()) {
+    cv::morphologyEx(m_binary, m_binary, cv::MORPH_OPEN, m_kernel);
+  }
+
+  ExtractBlobs(out.blobs);
+
+  if (wantTableImage) {
+    if (m_tableMapX.empty()) BuildTableMaps();
+    out.tableImage.cmPerPixel = m_params.tableCmPerPixel;
+    out.tableImage.origin = Vec2::Zero();
+    cv::remap(m_normalized, out.tableImage.image, m_tableMapX, m_tableMapY, cv::INTER_LINEAR,
+              cv::BORDER_CONSTANT, cv::Scalar(0));
+  }
+  return out;
+}
+
+void Sensor::ExtractBlobs(std::vector<Blob>& blobs) {
+  blobs.clear();
+  // one pass finds every component's outer border and its holes (Suzuki-Abe border following)
+  cv::findContours(m_binary, m_contours, m_hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE);
+  for (size_t i = 0; i < m_contours.size(); ++i) {
+    if (m_hierarchy[i][3] >= 0) continue;  // a hole's border: holes are ignored
+    const std::vector<cv::Point>& pixels = m_contours[i];
+
+    // cheap reject of specks: the pixel-centre polygon plus half a pixel all round
+    const double cmpp = m_model.CmPerPixel(Vec2(pixels[0].x, pixels[0].y));
+    const double pixelArea =
+        std::abs(cv::contourArea(pixels)) + 0.5 * cv::arcLength(pixels, true) + 1.0;
+    if (pixelArea * cmpp * cmpp < 0.5 * m_params.minArea) continue;
+
+    // sub-pixel edge points, mapped to the table
+    RefineToEdge(pixels, m_refined);
+    Contour dense(2, static_cast<Eigen::Index>(m_refined.size()));
+    for (size_t k = 0; k < m_refined.size(); ++k) {
+      const Vec2& p = m_refined[k];
+      dense.col(static_cast<Eigen::Index>(k)) =
+          m_linear ? ApplyHomography(m_model.cameraToTable, p.x(), p.y())
+                   : m_model.CameraToTable(p);
+    }
+    const double area = std::abs(SignedArea(dense));
+    if (area < m_params.minArea || dense.cols() < 3) continue;
+
+    Blob blob;
+    const Contour ccw = MakeCounterClockwise(dense);
+    blob.area = area;
+    blob.centroid = PolygonCentroid(ccw);
+    blob.boundsMin = ccw.rowwise().minCoeff();
+    blob.boundsMax = ccw.rowwise().maxCoeff();
+    blob.contour = ResampleClosed(ccw, m_params.spacing, 3);
+    blobs.push_back(std::move(blob));
+  }
+  std::sort(blobs.begin(), blobs.end(),
+            [](const Blob& a, const Blob& b) { return a.area > b.area; });
+}
+
+void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const {
+  const int n = static_cast<int>(pixels.size());
+  out.resize(pixels.size());
+  for (int i = 0; i < n; ++i) out[i] = Vec2(pixels[i].x, pixels[i].y);
+  if (!m_params.subpixel || n < 3) return;
+
+  // orientation: with a positive shoelace sum the outward normal of tangent t is (t.y, -t.x)
+  double shoelace = 0.0;
+  for (int i = 0, j = n - 1; i < n; j = i++)
+    shoelace += static_cast<double>(pixels[j].x) * pixels[i].y -
+                static_cast<double>(pixels[i].x) * pixels[j].y;
+  const double sign = shoelace >= 0.0 ? 1.0 : -1.0;
+  const int reach = n >= 5 ? 2 : 1;
+  const float minContrast = static_cast<float>(0.5 * m_lastThreshold);
+
+  for (int i = 0; i < n; ++i) {
+    const cv::Point& a = pixels[WrapIndex(i - reach, n)];
+    const cv::Point& b = pixels[WrapIndex(i + reach, n)];
+    Vec2 normal(sign * (b.y - a.y), -sign * (b.x - a.x));
+    const double len = normal.norm();
+    if (len < 1e-9) continue;
+    normal /= len;
+    const Vec2 p = out[i];
+    auto g = [&](double t) {
+      return Sample(m_normalized, p.x() + t * normal.x(), p.y() + t * normal.y());
+    };
+
+    // the edge is where the level crosses halfway between inside and outside
+    const float inside = std::max({g(-1.0), g(-1.5), g(-2.0)});
+    const float outside = std::min({g(1.0), g(1.5), g(2.0)});
+    if (inside - outside < minContrast) continue;
+    const float half = 0.5f * (inside + outside);
+    constexpr double kStep = 0.25;  // px
+    constexpr double kReach = 2.0;  // px
+    double t = 0.0;
+    float prev = g(0.0);
+    if (prev >= half) {
+      // walk outwards to the first sample below the half level
+      for (double s = kStep; s <= kReach + 1e-9; s += kStep) {
+        const float cur = g(s);
+        if (cur < half) {
+          t = s - kStep + kStep * (prev - half) / (prev - cur);
+          break;
+        }
+        prev = cur;
+      }
+    } else {
+      // walk inwards to the first sample at or above the half level
+      for (double s = -kStep; s >= -kReach - 1e-9; s -= kStep) {
+        const float cur = g(s);
+        if (cur >= half) {
+          t = s + kStep * (half - cur) / (prev - cur);
+          break;
+        }
+        prev = cur;
+      }
+    }
+    out[i] = p + t * normal;
+  }
+}
+
+void Sensor::BuildTableMaps() {
+  const double cmpp = m_params.tableCmPerPixel;
+  const int cols = static_cast<int>(std::ceil(m_table.width / cmpp));
+  const int rows = static_cast<int>(std::ceil(m_table.height / cmpp));
+  m_tableMapX.create(rows, cols, CV_32F);
+  m_tableMapY.create(rows, cols, CV_32F);
+  // table pixel (u, v) covers (u + 0.5, v + 0.5) * cmpp: sample the camera pixel that sees it
+  for (int v = 0; v < rows; ++v) {
+    for (int u = 0; u < cols; ++u) {
+      const Vec2 px = m_model.TableToCamera(Vec2((u + 0.5) * cmpp, (v + 0.5) * cmpp));
+      m_tableMapX.at<float>(v, u) = static_cast<float>(px.x());
+      m_tableMapY.at<float>(v, u) = static_cast<float>(px.y());
+    }
+  }
+}
+
+}  // namespace pg

@@ -1,0 +1,542 @@
+#include "proxygrasp/sensing/synthetic_camera.h"
+
+#include "proxygrasp/core/units.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <mutex>
+
+namespace pg {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// ---- signed distance primitives (local frame, cm, negative inside) ----
+
+double CapsuleDistance(const Vec2& p, const Vec2& a, const Vec2& b, double r) {
+  return DistanceToSegment(p, a, b) - r;
+}
+
+double RoundedBoxDistance(const Vec2& p, const Vec2& half, double r) {
+  const Vec2 q = p.cwiseAbs() - half + Vec2(r, r);
+  return q.cwiseMax(0.0).norm() + std::min(std::max(q.x(), q.y()), 0.0) - r;
+}
+
+// a band of half-thickness t around an arc of radius R centred on direction `mid`, +-half radians
+double ArcDistance(const Vec2& p, double R, double mid, double half, double t) {
+  const Vec2 q = Rotate(p, -mid);
+  const double phi = std::atan2(q.y(), q.x());
+  if (std::abs(phi) <= half) return std::abs(q.norm() - R) - t;
+  const Vec2 e1(R * std::cos(half), R * std::sin(half));
+  const Vec2 e2(R * std::cos(half), -R * std::sin(half));
+  return std::min((q - e1).norm(), (q - e2).norm()) - t;
+}
+
+double EllipseDistance(const Vec2& p, double a, double b) {
+  // first-order distance (f / |grad f| form): its zero level is the exact ellipse
+  const double k0 = Vec2(p.x() / a, p.y() / b).norm();
+  const double k1 = Vec2(p.x() / (a * a), p.y() / (b * b)).norm();
+  if (k1 < 1e-12) return -std::min(a, b);
+  return k0 * (k0 - 1.0) / k1;
+}
+
+// union of two shapes whose concave joints are filleted with circular arcs of radius r (for
+// straight boundaries the fillet is exact; the zero level stays continuous everywhere)
+double RoundUnion(double a, double b, double r) {
+  if (r <= 0.0) return std::min(a, b);
+  const double u = std::max(r - a, 0.0), v = std::max(r - b, 0.0);
+  return std::max(r, std::min(a, b)) - std::sqrt(u * u + v * v);
+}
+
+// ---- hands: a palm (rounded box) and finger capsules, in the hand's unscaled local frame ----
+
+struct Finger {
+  Vec2 base;
+  double angle;  // from +y, positive towards -x, degrees
+  double length;
+  double radius;
+};
+
+struct HandModel {
+  Vec2 palmHalf{4.0, 5.0};
+  double palmCorner = 1.8;
+  std::vector<Finger> fingers;  // thumb first
+  double blend = 0.5;  // radius of the fillets where fingers meet the palm and each other, cm
+  bool cupped = false;
+};
+
+const HandModel& HandFor(ShapeKind kind) {
+  static const HandModel kFive = [] {
+    HandModel h;
+    h.fingers = {{{-3.0, -1.8}, 55, 6.0, 1.0},
+                 {{-3.15, 3.8}, 16, 7.6, 0.85},
+                 {{-1.0, 4.2}, 4, 8.8, 0.9},
+                 {{1.15, 4.0}, -9, 8.1, 0.85},
+                 {{3.15, 3.3}, -24, 6.4, 0.75}};
+    h.blend = 0.45;
+    return h;
+  }();
+  static const HandModel kFlat = [] {
+    HandModel h;
+    // fingers side by side, overlapping a little, as wide together as the palm; the thumb lies
+    // along the palm's side
+    h.fingers = {{{-3.4, -2.5}, 10, 5.2, 1.0},
+                 {{-2.6, 4.0}, 0, 7.4, 0.95},
+                 {{-0.87, 4.2}, 0, 8.6, 0.95},
+                 {{0.87, 4.1}, 0, 8.0, 0.95},
+                 {{2.6, 3.6}, 0, 6.4, 0.85}};
+    h.blend = 0.6;
+    return h;
+  }();
+  static const HandModel kCupped = [] {
+    HandModel h;
+    h.cupped = true;
+    return h;
+  }();
+  switch (kind) {
+    case ShapeKind::kHandFive:
+      return kFive;
+    case ShapeKind::kHandFlat:
+      return kFlat;
+    default:
+      return kCupped;
+  }
+}
+
+Vec2 FingerTip(const Finger& f) {
+  const double a = DegToRad(f.angle);
+  return f.base + f.length * Vec2(-std::sin(a), std::cos(a));
+}
+
+// the cupped hand's edge: a C-shaped band 1.5 cm thick on an arc of radius 5.4 cm spanning 200
+// degrees, opening towards +x; its centreline is about 19 cm long
+constexpr double kCupRadius = 5.4;
+constexpr double kCupHalfSpan = 100.0;  // degrees
+constexpr double kCupHalfThickness = 0.75;
+
+double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
+  if (h.cupped) return ArcDistance(p, kCupRadius, kPi, DegToRad(kCupHalfSpan), kCupHalfThickness);
+  double d = RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
+  for (const Finger& f : h.fingers)
+    d = RoundUnion(d, CapsuleDistance(p, f.base, FingerTip(f), f.radius), h.blend);
+  return d;
+}
+
+bool IsHand(ShapeKind kind) {
+  return kind == ShapeKind::kHandFive || kind == ShapeKind::kHandFlat ||
+         kind == ShapeKind::kHandCupped;
+}
+
+// signed distance in the shape's local frame
+double LocalDistance(const ContactShape& s, const Contour* polygon, const Vec2& p) {
+  switch (s.kind) {
+    case ShapeKind::kCircle:
+      return p.norm() - s.radius;
+    case ShapeKind::kEllipse:
+      return EllipseDistance(p, s.radiusX, s.radiusY);
+    case ShapeKind::kCapsule:
+      return CapsuleDistance(p, Vec2(-0.5 * s.length, 0.0), Vec2(0.5 * s.length, 0.0), s.radius);
+    case ShapeKind::kConvexPolygon:
+    case ShapeKind::kConcavePolygon:
+      if (!polygon || polygon->cols() < 3) return kInf;
+      return -SignedDistance(*polygon, p);
+    case ShapeKind::kHandFive:
+    case ShapeKind::kHandFlat:
+    case ShapeKind::kHandCupped: {
+      const double scale = std::max(s.scale, 1e-6);
+      return scale * HandDistanceUnscaled(HandFor(s.kind), p / scale);
+    }
+  }
+  return kInf;
+}
+
+Contour LocalPolygon(const ContactShape& s) {
+  return MakeCounterClockwise(ToContour(s.points));
+}
+
+// ---- hand outlines: rasterize the distance sign finely, trace, then snap to the zero level ----
+
+Contour TraceHandOutline(ShapeKind kind, double scale) {
+  ContactShape s;
+  s.kind = kind;
+  s.scale = scale;
+  const auto eval = [&](const Vec2& p) { return LocalDistance(s, nullptr, p); };
+
+  // local bounds from the primitives
+  const HandModel& h = HandFor(kind);
+  Vec2 lo, hi;
+  if (h.cupped) {
+    const double r = kCupRadius + kCupHalfThickness;
+    lo = Vec2(-r, -r);
+    hi = Vec2(r, r);
+  } else {
+    lo = -h.palmHalf;
+    hi = h.palmHalf;
+    for (const Finger& f : h.fingers) {
+      const Vec2 tip = FingerTip(f);
+      lo = lo.cwiseMin(f.base - Vec2::Constant(f.radius)).cwiseMin(tip - Vec2::Constant(f.radius));
+      hi = hi.cwiseMax(f.base + Vec2::Constant(f.radius)).cwiseMax(tip + Vec2::Constant(f.radius));
+    }
+  }
+  lo = lo * scale - Vec2::Constant(0.2);
+  hi = hi * scale + Vec2::Constant(0.2);
+
+  // inside mask on a fine grid
+  constexpr double kGrid = 0.04;  // cm
+  const double step = kGrid * std::min(1.0, std::max(scale, 0.25));
+  const int cols = static_cast<int>(std::ceil((hi.x() - lo.x()) / step)) + 1;
+  const int rows = static_cast<int>(std::ceil((hi.y() - lo.y()) / step)) + 1;
+  cv::Mat mask(rows, cols, CV_8UC1);
+  for (int r = 0; r < rows; ++r) {
+    uint8_t* row = mask.ptr<uint8_t>(r);
+    for (int c = 0; c < cols; ++c) row[c] = eval(lo + Vec2(c * step, r * step)) <= 0.0 ? 255 : 0;
+  }
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  if (contours.empty()) return Contour(2, 0);
+  const auto largest = std::max_element(contours.begin(), contours.end(), [](auto& a, auto& b) {
+    return std::abs(cv::contourArea(a)) < std::abs(cv::contourArea(b));
+  });
+
+  // move each boundary cell centre outwards along the gradient onto the zero level (bisection)
+  std::vector<Vec2> points;
+  points.reserve(largest->size());
+  for (const cv::Point& cell : *largest) {
+    const Vec2 p = lo + Vec2(cell.x * step, cell.y * step);
+    constexpr double kDiff = 1e-4;
+    Vec2 g((eval(p + Vec2(kDiff, 0)) - eval(p - Vec2(kDiff, 0))),
+           (eval(p + Vec2(0, kDiff)) - eval(p - Vec2(0, kDiff))));
+    if (g.norm() < 1e-12) continue;
+    g.normalize();
+    double t0 = 0.0, t1 = 3.0 * step;
+    if (eval(p) > 0.0 || eval(p + t1 * g) <= 0.0) {
+      points.push_back(p);
+      continue;
+    }
+    for (int i = 0; i < 30; ++i) {
+      const double tm = 0.5 * (t0 + t1);
+      (eval(p + tm * g) <= 0.0 ? t0 : t1) = tm;
+    }
+    points.push_back(p + 0.5 * (t0 + t1) * g);
+  }
+  return MakeCounterClockwise(ToContour(points));
+}
+
+const Contour& CachedHandOutline(ShapeKind kind, double scale) {
+  static std::mutex mutex;
+  static std::map<std::pair<int, double>, Contour> cache;
+  std::lock_guard<std::mutex> lock(mutex);
+  const auto key = std::make_pair(static_cast<int>(kind), scale);
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    // a handful of hand sizes are used at a time; keep the cache from growing without bound
+    if (cache.size() > 64) cache.clear();
+    it = cache.emplace(key, TraceHandOutline(kind, scale)).first;
+  }
+  return it->second;
+}
+
+Contour SampleEllipse(double a, double b) {
+  const double perimeter = kPi * (3.0 * (a + b) - std::sqrt((3.0 * a + b) * (a + 3.0 * b)));
+  const int n = std::max(64, static_cast<int>(std::ceil(perimeter / 0.03)));
+  Contour c(2, n);
+  for (int i = 0; i < n; ++i) {
+    const double t = 2.0 * kPi * i / n;
+    c.col(i) = Vec2(a * std::cos(t), b * std::sin(t));
+  }
+  return c;
+}
+
+Contour SampleCapsule(double length, double r) {
+  const int half = std::max(32, static_cast<int>(std::ceil(kPi * r / 0.03)));
+  Contour c(2, 2 * (half + 1));
+  int k = 0;
+  // right cap from -90 to +90 degrees, then the left cap from +90 to 270
+  for (int i = 0; i <= half; ++i) {
+    const double t = -0.5 * kPi + kPi * i / half;
+    c.col(k++) = Vec2(0.5 * length + r * std::cos(t), r * std::sin(t));
+  }
+  for (int i = 0; i <= half; ++i) {
+    const double t = 0.5 * kPi + kPi * i / half;
+    c.col(k++) = Vec2(-0.5 * length + r * std::cos(t), r * std::sin(t));
+  }
+  return c;
+}
+
+Contour LocalOutline(const ContactShape& s) {
+  switch (s.kind) {
+    case ShapeKind::kCircle:
+      return SampleEllipse(s.radius, s.radius);
+    case ShapeKind::kEllipse:
+      return SampleEllipse(s.radiusX, s.radiusY);
+    case ShapeKind::kCapsule:
+      return SampleCapsule(s.length, s.radius);
+    case ShapeKind::kConvexPolygon:
+    case ShapeKind::kConcavePolygon:
+      return LocalPolygon(s);
+    case ShapeKind::kHandFive:
+    case ShapeKind::kHandFlat:
+    case ShapeKind::kHandCupped:
+      return CachedHandOutline(s.kind, s.scale);
+  }
+  return Contour(2, 0);
+}
+
+}  // namespace
+
+double ShapeDistance(const ContactShape& shape, const Vec2& tablePoint) {
+  const Vec2 local = shape.pose.Inverse(tablePoint);
+  if (shape.kind == ShapeKind::kConvexPolygon || shape.kind == ShapeKind::kConcavePolygon) {
+    const Contour poly = LocalPolygon(shape);
+    return LocalDistance(shape, &poly, local);
+  }
+  return LocalDistance(shape, nullptr, local);
+}
+
+Contour ShapeOutline(const ContactShape& shape) {
+  const Contour local = LocalOutline(shape);
+  Contour out(2, local.cols());
+  for (int i = 0; i < local.cols(); ++i) out.col(i) = shape.pose.Apply(local.col(i));
+  return out;
+}
+
+std::pair<Vec2, Vec2> ShapeBounds(const ContactShape& shape) {
+  const Contour c = ShapeOutline(shape);
+  if (c.cols() == 0) return {shape.pose.pos, shape.pose.pos};
+  return {c.rowwise().minCoeff(), c.rowwise().maxCoeff()};
+}
+
+CameraModel SyntheticCameraModel(const SyntheticCameraParams& params, const TableParams& table) {
+  CameraModel m;
+  const int w = params.width, h = params.height;
+  m.imageSize = cv::Size(w, h);
+  // a moderately wide lens: focal length 0.9 of the image width
+  const double f = 0.9 * w;
+  m.cameraMatrix = cv::Matx33d(f, 0, (w - 1) / 2.0, 0, f, (h - 1) / 2.0, 0, 0, 1);
+  m.distCoeffs = cv::Vec<double, 5>(params.distortion, 0, 0, 0, 0);
+  // the table's near edge fills the bottom of the image; its far edge appears narrower by
+  // `perspective` of the width (keystone)
+  const double inset = 0.5 * params.perspective * w;
+  const cv::Point2f image[4] = {{static_cast<float>(-0.5 + inset), -0.5f},
+                                {static_cast<float>(w - 0.5 - inset), -0.5f},
+                                {static_cast<float>(w - 0.5), static_cast<float>(h - 0.5)},
+                                {-0.5f, static_cast<float>(h - 0.5)}};
+  const cv::Point2f tablePts[4] = {
+      {0.0f, static_cast<float>(table.height)},
+      {static_cast<float>(table.width), static_cast<float>(table.height)},
+      {static_cast<float>(table.width), 0.0f},
+      {0.0f, 0.0f}};
+  cv::Mat hm = cv::getPerspectiveTransform(image, tablePts);
+  m.cameraToTable = cv::Matx33d(hm.ptr<double>());
+  return m;
+}
+
+SyntheticCamera::SyntheticCamera(const SyntheticCameraParams& params, const TableParams& table)
+    : m_params(params),
+      m_table(table),
+      m_model(SyntheticCameraModel(params, table)),
+      m_rng(static_cast<uint64_t>(params.seed)) {
+  const int w = params.width, h = params.height;
+  m_tableX.create(h, w, CV_32F);
+  m_tableY.create(h, w, CV_32F);
+  m_gain.create(h, w, CV_32F);
+  m_background.create(h, w, CV_32F);
+  const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
+  const double rMax2 = cx * cx + cy * cy;
+  // where each pixel looks on the table, and the illumination it sees
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const Vec2 t = m_model.CameraToTable(Vec2(u, v));
+      m_tableX.at<float>(v, u) = static_cast<float>(t.x());
+      m_tableY.at<float>(v, u) = static_cast<float>(t.y());
+      const double r2 = ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / rMax2;
+      m_gain.at<float>(v, u) = static_cast<float>(1.0 - params.vignetting * r2);
+      m_background.at<float>(v, u) = static_cast<float>(
+          params.background + params.gradient * (u / std::max(w - 1.0, 1.0) - 0.5));
+    }
+  }
+  // local pixel size from the map's finite differences
+  m_cmPerPixel.create(h, w, CV_32F);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const int u0 = std::max(u - 1, 0), u1 = std::min(u + 1, w - 1);
+      const int v0 = std::max(v - 1, 0), v1 = std::min(v + 1, h - 1);
+      const double du = std::max(u1 - u0, 1), dv = std::max(v1 - v0, 1);
+      const double jxx = (m_tableX.at<float>(v, u1) - m_tableX.at<float>(v, u0)) / du;
+      const double jxy = (m_tableY.at<float>(v, u1) - m_tableY.at<float>(v, u0)) / du;
+      const double jyx = (m_tableX.at<float>(v1, u) - m_tableX.at<float>(v0, u)) / dv;
+      const double jyy = (m_tableY.at<float>(v1, u) - m_tableY.at<float>(v0, u)) / dv;
+      m_cmPerPixel.at<float>(v, u) = static_cast<float>(std::sqrt(std::abs(jxx * jyy - jxy * jyx)));
+    }
+  }
+}
+
+cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo) {
+  const int w = m_params.width, h = m_params.height;
+  cv::Mat out(h, w, CV_8UC1);
+  const float contactLevel = static_cast<float>(m_params.contactLevel);
+  const float haloLevel = static_cast<float>(m_params.haloLevel);
+  const double noise = m_params.noise;
+  for (int v = 0; v < h; ++v) {
+    const float* c = contact.ptr<float>(v);
+    const float* hl = halo.ptr<float>(v);
+    const float* g = m_gain.ptr<float>(v);
+    const float* b = m_background.ptr<float>(v);
+    uint8_t* o = out.ptr<uint8_t>(v);
+    for (int u = 0; u < w; ++u) {
+      // illumination: background, contact and halo, all dimmed by vignetting, then sensor noise
+      const float level = b[u] + (contactLevel - b[u]) * c[u] + haloLevel * hl[u] * (1.0f - c[u]);
+      double value = g[u] * level;
+      if (noise > 0.0) value += noise * m_rng.Normal();
+      o[u] = cv::saturate_cast<uint8_t>(value);
+    }
+  }
+  return out;
+}
+
+cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
+  const int w = m_params.width, h = m_params.height;
+  cv::Mat contact = cv::Mat::zeros(h, w, CV_32F);
+  cv::Mat halo = cv::Mat::zeros(h, w, CV_32F);
+  const double haloWidth = m_params.haloWidth;
+
+  for (const ContactShape& s : shapes) {
+    const bool hand = IsHand(s.kind);
+    const Contour polygon = LocalPolygon(s);
+    // camera pixels that can see the shape (and its halo)
+    auto [lo, hi] = ShapeBounds(s);
+    const double margin = (hand ? haloWidth : 0.0) + 0.5;
+    lo -= Vec2::Constant(margin);
+    hi += Vec2::Constant(margin);
+    double u0 = kInf, v0 = kInf, u1 = -kInf, v1 = -kInf;
+    constexpr int kEdgeSamples = 8;
+    for (int i = 0; i <= kEdgeSamples; ++i) {
+      const double t = static_cast<double>(i) / kEdgeSamples;
+      for (const Vec2& p :
+           {Vec2(Lerp(lo.x(), hi.x(), t), lo.y()), Vec2(Lerp(lo.x(), hi.x(), t), hi.y()),
+            Vec2(lo.x(), Lerp(lo.y(), hi.y(), t)), Vec2(hi.x(), Lerp(lo.y(), hi.y(), t))}) {
+        const Vec2 px = m_model.TableToCamera(p);
+        u0 = std::min(u0, px.x());
+        u1 = std::max(u1, px.x());
+        v0 = std::min(v0, px.y());
+        v1 = std::max(v1, px.y());
+      }
+    }
+    const int uBegin = std::max(0, static_cast<int>(std::floor(u0)) - 3);
+    const int uEnd = std::min(w - 1, static_cast<int>(std::ceil(u1)) + 3);
+    const int vBegin = std::max(0, static_cast<int>(std::floor(v0)) - 3);
+    const int vEnd = std::min(h - 1, static_cast<int>(std::ceil(v1)) + 3);
+
+    // area coverage from the signed distance in pixels (a one-pixel linear ramp), and the halo
+    for (int v = vBegin; v <= vEnd; ++v) {
+      const float* tx = m_tableX.ptr<float>(v);
+      const float* ty = m_tableY.ptr<float>(v);
+      const float* cmpp = m_cmPerPixel.ptr<float>(v);
+      float* c = contact.ptr<float>(v);
+      float* hl = halo.ptr<float>(v);
+      for (int u = uBegin; u <= uEnd; ++u) {
+        const Vec2 local = s.pose.Inverse(Vec2(tx[u], ty[u]));
+        const double d = LocalDistance(s, &polygon, local);
+        const double coverage =
+            std::clamp(0.5 - d / cmpp[u], 0.0, 1.0) * std::clamp(s.pressure, 0.0, 1.0);
+        c[u] = std::max(c[u], static_cast<float>(coverage));
+        if (hand && haloWidth > 0.0) {
+          const double glow = d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d / haloWidth);
+          hl[u] = std::max(hl[u], static_cast<float>(glow));
+        }
+      }
+    }
+  }
+  return Compose(contact, halo);
+}
+
+std::vector<Contour> SyntheticCamera::TrueOutlines(std::span<const ContactShape> shapes) const {
+  std::vector<Contour> out;
+  out.reserve(shapes.size());
+  for (const ContactShape& s : shapes) out.push_back(ShapeOutline(s));
+  return out;
+}
+
+cv::Mat SyntheticCamera::RenderTableImage(const cv::Mat& tableImage) {
+  const int w = m_params.width, h = m_params.height;
+  cv::Mat contact = cv::Mat::zeros(h, w, CV_32F);
+  if (!tableImage.empty()) {
+    cv::Mat grey;
+    if (tableImage.channels() == 3)
+      cv::cvtColor(tableImage, grey, cv::COLOR_BGR2GRAY);
+    else
+      grey = tableImage;
+    cv::Mat reflectance;
+    grey.convertTo(reflectance, CV_32F, 1.0 / 255.0);
+    // each camera pixel samples the table image where it looks
+    cv::Mat mapX(h, w, CV_32F), mapY(h, w, CV_32F);
+    const double sx = reflectance.cols / m_table.width;
+    const double sy = reflectance.rows / m_table.height;
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        mapX.at<float>(v, u) = static_cast<float>(m_tableX.at<float>(v, u) * sx - 0.5);
+        mapY.at<float>(v, u) =
+            static_cast<float>((m_table.height - m_tableY.at<float>(v, u)) * sy - 0.5);
+      }
+    }
+    cv::remap(reflectance, contact, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+              cv::Scalar(0));
+  }
+  return Compose(contact, cv::Mat::zeros(h, w, CV_32F));
+}
+
+cv::Mat SyntheticCamera::Background() const {
+  cv::Mat level;
+  cv::multiply(m_gain, m_background, level);
+  cv::Mat out;
+  level.convertTo(out, CV_8UC1);
+  return out;
+}
+
+bool DemoScene(const std::string& name, int64_t frame, const TableParams& table,
+               std::vector<ContactShape>& shapes) {
+  shapes.clear();
+  // both scenes start with a clear table for a few frames, as a person walking up to it would
+  constexpr int64_t kClearFrames = 5;
+  constexpr double kFrameRate = 60.0;  // Hz
+  const double t = static_cast<double>(frame - kClearFrames) / kFrameRate;
+  if (name == "fingers") {
+    if (frame < kClearFrames) return true;
+    // ten fingertips, five per hand, each tracing its own small ellipse
+    for (int i = 0; i < 10; ++i) {
+      const int hand = i / 5, k = i % 5;
+      const Vec2 home(table.width * (hand == 0 ? 0.3 : 0.7) + (k - 2) * 3.5,
+                      table.height * 0.5 + (k == 0 || k == 4 ? -2.0 : 1.0) + (k == 2 ? 1.0 : 0.0));
+      const double phase = 0.7 * i;
+      ContactShape s;
+      s.kind = ShapeKind::kCircle;
+      s.radius = 0.75 + 0.05 * k;
+      s.pose.pos = home + Vec2(1.2 * std::cos(2.0 * t + phase), 0.8 * std::sin(1.5 * t + phase));
+      shapes.push_back(s);
+    }
+    return true;
+  }
+  if (name == "hands") {
+    if (frame < kClearFrames) return true;
+    // two flat hands sliding towards each other and back, turning a little
+    for (int i = 0; i < 2; ++i) {
+      const double side = i == 0 ? -1.0 : 1.0;
+      ContactShape s;
+      s.kind = ShapeKind::kHandFlat;
+      s.scale = 0.95;
+      s.pose.pos = Vec2(table.width * 0.5 + side * (14.0 - 4.0 * std::sin(1.2 * t)),
+                        table.height * 0.42 + 2.0 * std::sin(0.8 * t + i));
+      s.pose.angle = -side * DegToRad(15.0 + 8.0 * std::sin(0.9 * t));
+      shapes.push_back(s);
+    }
+    return true;
+  }
+  return false;
+}
+
+}  // namespace pg

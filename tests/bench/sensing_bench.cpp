@@ -1,0 +1,89 @@
+// Sensing plus tracking of one 640x480 frame: Sensor::Process + Tracker::Update on frames rendered
+// beforehand by the synthetic table camera. Targets (issue #3): <= 1 ms with ten fingertips, <= 1.5
+// ms with two flat hands, on one core. Run pinned: taskset -c 0 build/release/bench_sensing
+#include "proxygrasp/sensing/sensor.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
+#include "proxygrasp/tracking/tracker.h"
+
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+namespace pg {
+namespace {
+
+constexpr int kFrames = 60;  // one second of the demo scene, cycled
+
+struct Recording {
+  std::vector<cv::Mat> frames;
+  Calibration calibration;
+  cv::Mat background;
+};
+
+Recording Record(const std::string& scene, double distortion) {
+  const TableParams table;
+  SyntheticCameraParams p;
+  p.distortion = distortion;
+  SyntheticCamera camera(p, table);
+  Recording r;
+  std::vector<ContactShape> shapes;
+  // skip the demo's clear-table start
+  for (int i = 0; i < kFrames; ++i) {
+    DemoScene(scene, 10 + i, table, shapes);
+    r.frames.push_back(camera.Render(shapes));
+  }
+  r.calibration = CalibrationFromModel(camera.model());
+  r.background = camera.Background();
+  return r;
+}
+
+void SenseAndTrack(benchmark::State& state, const std::string& scene, double distortion) {
+  // one core: OpenCV runs every function sequentially, no worker threads
+  cv::setNumThreads(0);
+  const Recording rec = Record(scene, distortion);
+  Sensor sensor;
+  if (sensor.Configure(SensingParams{}, TableParams{}, rec.calibration) ||
+      sensor.SetBackground(rec.background)) {
+    state.SkipWithError("sensor configuration failed");
+    return;
+  }
+  Tracker tracker;
+  const TrackingParams tracking;
+  int64_t index = 0;
+  size_t contacts = 0, points = 0;
+  for (auto _ : state) {
+    Result<ContourFrame> frame = sensor.Process(rec.frames[index % kFrames], index, index / 60.0);
+    const ContactSet set = tracker.Update(tracking, frame.value());
+    contacts = set.contacts.size();
+    points = 0;
+    for (const Contact& c : set.contacts) points += static_cast<size_t>(c.blob.contour.cols());
+    benchmark::DoNotOptimize(set.contacts.data());
+    ++index;
+  }
+  state.counters["contacts"] = static_cast<double>(contacts);
+  state.counters["points"] = static_cast<double>(points);
+}
+
+void BM_TenFingertips(benchmark::State& state) {
+  SenseAndTrack(state, "fingers", 0.0);
+}
+void BM_TwoFlatHands(benchmark::State& state) {
+  SenseAndTrack(state, "hands", 0.0);
+}
+void BM_TenFingertipsDistorted(benchmark::State& state) {
+  SenseAndTrack(state, "fingers", -0.08);
+}
+void BM_TwoFlatHandsDistorted(benchmark::State& state) {
+  SenseAndTrack(state, "hands", -0.08);
+}
+
+BENCHMARK(BM_TenFingertips)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_TwoFlatHands)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_TenFingertipsDistorted)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_TwoFlatHandsDistorted)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+
+}  // namespace
+}  // namespace pg
+
+BENCHMARK_MAIN();

@@ -1,0 +1,431 @@
+#include "proxygrasp/sensing/sensor.h"
+
+#include "proxygrasp/core/units.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace pg {
+namespace {
+
+using ::testing::HasSubstr;
+
+// a camera with every nuisance on: noise, vignetting, gradient, barrel distortion and keystone
+SyntheticCameraParams HardCamera(int seed = 7) {
+  SyntheticCameraParams p;
+  p.noise = 3.0;
+  p.gradient = 12.0;
+  p.vignetting = 0.25;
+  p.distortion = -0.08;
+  p.perspective = 0.06;
+  p.seed = seed;
+  return p;
+}
+
+// Hausdorff distance between two table contours measured in camera pixels of the true model
+double HausdorffPixels(const CameraModel& model, const Contour& a, const Contour& b) {
+  auto toPixels = [&](const Contour& c) {
+    Contour out(2, c.cols());
+    for (int i = 0; i < c.cols(); ++i) out.col(i) = model.TableToCamera(c.col(i));
+    return out;
+  };
+  return HausdorffDistance(toPixels(a), toPixels(b));
+}
+
+struct AccuracyCase {
+  std::string name;
+  ContactShape shape;
+};
+
+ContactShape Make(ShapeKind kind, Vec2 pos, double angleDeg) {
+  ContactShape s;
+  s.kind = kind;
+  s.pose.pos = pos;
+  s.pose.angle = DegToRad(angleDeg);
+  return s;
+}
+
+std::vector<AccuracyCase> AccuracyCases() {
+  std::vector<AccuracyCase> cases;
+  ContactShape circle = Make(ShapeKind::kCircle, {12.0, 35.0}, 0);
+  circle.radius = 0.8;
+  cases.push_back({"circle_corner", circle});
+  circle.pose.pos = {30.5, 23.0};
+  circle.radius = 1.1;
+  cases.push_back({"circle_centre", circle});
+  ContactShape ellipse = Make(ShapeKind::kEllipse, {45.0, 12.0}, 30);
+  ellipse.radiusX = 1.6;
+  ellipse.radiusY = 0.9;
+  cases.push_back({"ellipse", ellipse});
+  cases.push_back({"hand_five", Make(ShapeKind::kHandFive, {20.0, 18.0}, 20)});
+  cases.push_back({"hand_flat", Make(ShapeKind::kHandFlat, {40.0, 17.0}, -25)});
+  cases.push_back({"hand_cupped", Make(ShapeKind::kHandCupped, {32.0, 24.0}, 70)});
+  ContactShape smallHand = Make(ShapeKind::kHandFive, {44.0, 20.0}, -10);
+  smallHand.scale = 0.8;
+  cases.push_back({"hand_five_small", smallHand});
+  return cases;
+}
+
+void PrintTo(const AccuracyCase& c, std::ostream* os) {
+  *os << c.name;
+}
+
+class ContourAccuracy : public ::testing::TestWithParam<AccuracyCase> {};
+
+TEST_P(ContourAccuracy, WithinOnePixelOfTruth) {
+  const AccuracyCase& c = GetParam();
+  const TableParams table;
+  SyntheticCamera camera(HardCamera(), table);
+  Sensor sensor;
+  SensingParams params;
+  ASSERT_FALSE(sensor.Configure(params, table, CalibrationFromModel(camera.model())));
+  ASSERT_FALSE(sensor.SetBackground(camera.Background()));
+
+  const ContactShape shapes[] = {c.shape};
+  const Contour truth = camera.TrueOutlines(shapes)[0];
+  // a few frames, so several noise draws are checked
+  for (int frame = 0; frame < 3; ++frame) {
+    Result<ContourFrame> r = sensor.Process(camera.Render(shapes), frame, frame / 60.0);
+    ASSERT_TRUE(r) << r.error().Format();
+    ASSERT_EQ(r.value().blobs.size(), 1u) << c.name;
+    const Blob& blob = r.value().blobs[0];
+    // the acceptance bound of the issue: the contour within 1 camera pixel (Hausdorff)
+    const double h = HausdorffPixels(camera.model(), truth, blob.contour);
+    EXPECT_LE(h, 1.0) << c.name << " frame " << frame;
+    // area and centroid follow from the outline: a 1 px band around the perimeter bounds them
+    const double cmpp =
+        camera.model().CmPerPixel(camera.model().TableToCamera(PolygonCentroid(truth)));
+    const double truthArea = SignedArea(truth);
+    EXPECT_NEAR(blob.area, truthArea, Perimeter(truth) * cmpp) << c.name;
+    EXPECT_LT((blob.centroid - PolygonCentroid(truth)).norm(), cmpp) << c.name;
+    if (frame == 0) std::printf("%-16s Hausdorff %.3f px\n", c.name.c_str(), h);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, ContourAccuracy, ::testing::ValuesIn(AccuracyCases()),
+                         [](const auto& info) { return info.param.name; });
+
+// a sensor looking through a camera, with the true calibration and the noiseless background
+struct Rig {
+  explicit Rig(SyntheticCameraParams p = HardCamera(), SensingParams sp = SensingParams())
+      : camera(p, table) {
+    EXPECT_FALSE(sensor.Configure(sp, table, CalibrationFromModel(camera.model())));
+  }
+  TableParams table;
+  SyntheticCamera camera;
+  Sensor sensor;
+};
+
+ContactShape Circle(Vec2 pos, double radius) {
+  ContactShape s;
+  s.pose.pos = pos;
+  s.radius = radius;
+  return s;
+}
+
+TEST(Sensor, EmptyTableHasNoPhantoms) {
+  // noise, vignetting, gradient and distortion on, for every background strategy and both
+  // threshold modes: 20 frames each must hold no contact at all
+  for (int strategy = 0; strategy < 3; ++strategy) {
+    for (ThresholdMode mode : {ThresholdMode::kFixed, ThresholdMode::kOtsu}) {
+      SensingParams sp;
+      sp.thresholdMode = mode;
+      sp.backgroundFrames = strategy == 1 ? 4 : 0;
+      Rig rig(HardCamera(11 + strategy), sp);
+      if (strategy == 2) {
+        ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+      }
+      for (int i = 0; i < 20; ++i) {
+        Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render({}), i, i / 60.0);
+        ASSERT_TRUE(r) << r.error().Format();
+        EXPECT_TRUE(r.value().blobs.empty())
+            << "strategy " << strategy << " mode " << static_cast<int>(mode) << " frame " << i;
+      }
+    }
+  }
+}
+
+TEST(Sensor, StrongNoiseAndGradientStillNoPhantoms) {
+  // twice the default noise and gradient, estimated background: 10 sigma below the threshold
+  SyntheticCameraParams p = HardCamera(5);
+  p.noise = 6.0;
+  p.gradient = 24.0;
+  Rig rig(p);
+  for (int i = 0; i < 10; ++i) {
+    Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render({}), i, 0.0);
+    ASSERT_TRUE(r);
+    EXPECT_TRUE(r.value().blobs.empty()) << "frame " << i;
+  }
+}
+
+TEST(Sensor, HaloIsNotAContact) {
+  // a hand's halo is dimmer than the threshold: one blob whose area matches the hand, not the halo
+  Rig rig;
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  ContactShape hand = Make(ShapeKind::kHandFlat, {30.0, 20.0}, 0);
+  const ContactShape shapes[] = {hand};
+  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 1u);
+  const double truthArea = SignedArea(ShapeOutline(hand));
+  // tolerance: a 0.1 cm (about one pixel) band around the outline
+  EXPECT_NEAR(r.value().blobs[0].area, truthArea, 0.1 * Perimeter(ShapeOutline(hand)));
+}
+
+TEST(Sensor, EstimatedBackgroundWithHandsOnTheTable) {
+  // no clear-table frame at all: the first frame shows two hands and ten fingertips; the estimate
+  // must still find every contact and no more
+  Rig rig;
+  std::vector<ContactShape> shapes;
+  ASSERT_TRUE(DemoScene("fingers", 30, rig.table, shapes));
+  ContactShape hand = Make(ShapeKind::kHandFlat, {30.0, 10.0}, 0);
+  hand.scale = 0.8;
+  shapes.push_back(hand);
+  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r.value().blobs.size(), shapes.size());
+}
+
+TEST(Sensor, ContourConventions) {
+  Rig rig;
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const ContactShape shapes[] = {Make(ShapeKind::kHandFive, {30.0, 18.0}, 10)};
+  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 3, 0.05);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 1u);
+  const Blob& b = r.value().blobs[0];
+  EXPECT_EQ(r.value().index, 3);
+  EXPECT_DOUBLE_EQ(r.value().time, 0.05);
+  // counter-clockwise, implicitly closed (no repeated first point), evenly spaced near 0.3 cm
+  EXPECT_GT(SignedArea(b.contour), 0.0);
+  EXPECT_GT((b.contour.col(0) - b.contour.col(b.contour.cols() - 1)).norm(), 1e-6);
+  const double spacing = Perimeter(b.contour) / b.contour.cols();
+  EXPECT_NEAR(spacing, 0.3, 0.03);  // count = round(perimeter / 0.3): within 10%
+  for (int i = 0; i < b.contour.cols(); ++i) {
+    const double step = (b.contour.col((i + 1) % b.contour.cols()) - b.contour.col(i)).norm();
+    // a chord is never longer than its arc, which is 0.3 cm up to the rounding of the count
+    EXPECT_LE(step, 0.3 * 1.05) << "point " << i;
+  }
+  // the summary agrees with the contour
+  EXPECT_TRUE(PointInPolygon(b.contour, b.centroid));
+  EXPECT_LE(b.boundsMin.x(), b.contour.row(0).minCoeff() + 1e-9);
+  EXPECT_GE(b.boundsMax.y(), b.contour.row(1).maxCoeff() - 1e-9);
+}
+
+TEST(Sensor, SmallContactsAreRemoved) {
+  SensingParams sp;
+  sp.minArea = 0.5;
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  // areas 0.28 cm^2 (removed) and 0.79 cm^2 (kept)
+  const ContactShape shapes[] = {Circle({20.0, 20.0}, 0.3), Circle({40.0, 20.0}, 0.5)};
+  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 1u);
+  EXPECT_NEAR(r.value().blobs[0].centroid.x(), 40.0, 0.1);
+}
+
+TEST(Sensor, BlobsAreLargestFirstAndTouchingShapesMerge) {
+  Rig rig;
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  // two overlapping fingertips are one component; a larger one elsewhere comes first
+  const ContactShape shapes[] = {Circle({10.0, 10.0}, 0.8), Circle({11.2, 10.0}, 0.8),
+                                 Circle({40.0, 30.0}, 2.0)};
+  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 2u);
+  EXPECT_NEAR(r.value().blobs[0].centroid.x(), 40.0, 0.1);
+  EXPECT_NEAR(r.value().blobs[1].centroid.x(), 10.6, 0.1);
+}
+
+TEST(Sensor, HolesAreIgnored) {
+  // a square frame of four bars (6 cm outside, 4 cm inside) is one component with a hole: the
+  // outer contour alone describes it
+  Rig rig;
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  std::vector<ContactShape> bars;
+  for (int i = 0; i < 4; ++i) {
+    ContactShape bar;
+    bar.kind = ShapeKind::kConvexPolygon;
+    bar.points = {{-3, -3}, {3, -3}, {3, -2}, {-3, -2}};
+    bar.pose.pos = {30, 23};
+    bar.pose.angle = i * kPi / 2;
+    bars.push_back(bar);
+  }
+  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(bars), 0, 0.0);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 1u);
+  // the outer square's area, not the frame's: 36 cm^2 (tolerance: a 0.1 cm band round 24 cm)
+  EXPECT_NEAR(r.value().blobs[0].area, 36.0, 2.4);
+}
+
+TEST(Sensor, BackgroundCapturedFromFirstFrames) {
+  SensingParams sp;
+  sp.backgroundFrames = 3;
+  Rig rig(HardCamera(), sp);
+  const ContactShape shapes[] = {Circle({30.0, 20.0}, 1.0)};
+  // the first three frames (clear table) go into the background and report nothing
+  for (int i = 0; i < 3; ++i) {
+    Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render({}), i, 0.0);
+    ASSERT_TRUE(r);
+    EXPECT_TRUE(r.value().blobs.empty());
+  }
+  EXPECT_TRUE(rig.sensor.HasBackground());
+  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 3, 0.0);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 1u);
+  EXPECT_NEAR(r.value().blobs[0].area, kPi, 0.1 * 2.0 * kPi);
+}
+
+TEST(Sensor, AutomaticThresholdFindsContacts) {
+  SensingParams sp;
+  sp.thresholdMode = ThresholdMode::kOtsu;
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const ContactShape shapes[] = {Circle({20.0, 20.0}, 1.0),
+                                 Make(ShapeKind::kHandFlat, {40, 20}, 0)};
+  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r.value().blobs.size(), 2u);
+  // Otsu splits contact (~150 above background) from the rest, far above the floor
+  EXPECT_GT(rig.sensor.LastThreshold(), SensingParams().autoFloor);
+}
+
+TEST(Sensor, TableImageOnRequest) {
+  SyntheticCameraParams p = HardCamera();
+  Rig rig(p);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const ContactShape shapes[] = {Circle({20.0, 30.0}, 1.5)};
+  const cv::Mat frame = rig.camera.Render(shapes);
+  Result<ContourFrame> without = rig.sensor.Process(frame, 0, 0.0);
+  ASSERT_TRUE(without);
+  EXPECT_TRUE(without.value().tableImage.image.empty());
+  Result<ContourFrame> with = rig.sensor.Process(frame, 1, 0.0, true);
+  ASSERT_TRUE(with);
+  const TableImage& t = with.value().tableImage;
+  ASSERT_EQ(t.image.type(), CV_8UC1);
+  EXPECT_EQ(t.image.cols, 610);  // 61 cm / 0.1 cm
+  EXPECT_EQ(t.image.rows, 460);
+  // pixel (u, v) covers (u + 0.5, v + 0.5) * 0.1 cm: the circle's centre is bright, far is dark
+  EXPECT_GT(t.image.at<uint8_t>(300, 200), 100);
+  EXPECT_LT(t.image.at<uint8_t>(300, 260), 30);
+  EXPECT_LT(t.image.at<uint8_t>(160, 200), 30);
+}
+
+TEST(Sensor, BadFramesGiveErrorsNamingTheFrame) {
+  Rig rig;
+  Result<ContourFrame> empty = rig.sensor.Process(cv::Mat(), 7, 0.0);
+  ASSERT_FALSE(empty);
+  EXPECT_EQ(empty.error().Format(), "frame 7: empty frame (expected 640x480 8-bit grey, CV_8UC1)");
+
+  Result<ContourFrame> small =
+      rig.sensor.Process(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), 8, 0.0);
+  ASSERT_FALSE(small);
+  EXPECT_EQ(small.error().Format(), "frame 8: frame is 320x240, expected 640x480");
+
+  Result<ContourFrame> colour =
+      rig.sensor.Process(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0)), 9, 0.0);
+  ASSERT_FALSE(colour);
+  EXPECT_THAT(colour.error().Format(),
+              HasSubstr("frame 9: frame type is CV_8UC3, expected CV_8UC1"));
+
+  Result<ContourFrame> floats =
+      rig.sensor.Process(cv::Mat(480, 640, CV_32F, cv::Scalar(0)), 10, 0.0);
+  ASSERT_FALSE(floats);
+  EXPECT_THAT(floats.error().Format(), HasSubstr("frame 10: frame type is CV_32FC1"));
+
+  // the sensor keeps working after bad frames
+  Result<ContourFrame> good = rig.sensor.Process(rig.camera.Render({}), 11, 0.0);
+  EXPECT_TRUE(good);
+}
+
+TEST(Sensor, UnconfiguredSensorSaysSo) {
+  Sensor sensor;
+  Result<ContourFrame> r = sensor.Process(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), 0, 0.0);
+  ASSERT_FALSE(r);
+  EXPECT_THAT(r.error().Format(), HasSubstr("not configured"));
+}
+
+TEST(Sensor, ConfigureErrorsNameTheFileAndField) {
+  Sensor sensor;
+  SensingParams sp;
+  sp.calibration = "/nonexistent/calib.yaml";
+  Status s = sensor.Configure(sp, TableParams{}, cv::Size(640, 480));
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->Format(), "/nonexistent/calib.yaml: calibration file not found");
+
+  // a calibration for another image size
+  const std::string path = ::testing::TempDir() + "/calib_320.yaml";
+  ASSERT_FALSE(SaveCalibration(path, LinearCalibration({320, 240}, TableParams{})));
+  sp.calibration = path;
+  s = sensor.Configure(sp, TableParams{}, cv::Size(640, 480));
+  ASSERT_TRUE(s);
+  EXPECT_THAT(s->Format(), HasSubstr(path + ": field 'image_width'/'image_height' is 320x240"));
+
+  sp.calibration = "";
+  sp.spacing = 0.0;
+  s = sensor.Configure(sp, TableParams{}, cv::Size(640, 480));
+  ASSERT_TRUE(s);
+  EXPECT_THAT(s->Format(), HasSubstr("sensing.spacing"));
+
+  Status bg = sensor.SetBackground(cv::Mat(10, 10, CV_8UC1));
+  ASSERT_TRUE(bg);
+  EXPECT_THAT(bg->Format(), HasSubstr("background"));
+}
+
+TEST(Sensor, CalibrationFileRoundTripGivesTheSameContours) {
+  // the same calibration in memory and through a YAML file (with its background) sense alike
+  Rig rig;
+  const std::string path = ::testing::TempDir() + "/calib_true.yaml";
+  ASSERT_FALSE(
+      SaveCalibration(path, CalibrationFromModel(rig.camera.model(), rig.camera.Background())));
+  Sensor fromFile;
+  SensingParams sp;
+  sp.calibration = path;
+  ASSERT_FALSE(fromFile.Configure(sp, rig.table, cv::Size(640, 480)));
+  ASSERT_TRUE(fromFile.HasBackground());
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const ContactShape shapes[] = {Make(ShapeKind::kHandCupped, {30, 20}, 40)};
+  const cv::Mat frame = rig.camera.Render(shapes);
+  Result<ContourFrame> a = rig.sensor.Process(frame, 0, 0.0);
+  Result<ContourFrame> b = fromFile.Process(frame, 0, 0.0);
+  ASSERT_TRUE(a);
+  ASSERT_TRUE(b);
+  ASSERT_EQ(a.value().blobs.size(), 1u);
+  ASSERT_EQ(b.value().blobs.size(), 1u);
+  // YAML stores doubles with 16 significant digits: the contours agree to well under a micron
+  EXPECT_LT(HausdorffDistance(a.value().blobs[0].contour, b.value().blobs[0].contour), 1e-4);
+}
+
+TEST(EstimateBackground, MatchesTheClearTableUnderContacts) {
+  SyntheticCamera camera(HardCamera(), TableParams{});
+  std::vector<ContactShape> shapes;
+  shapes.push_back(Make(ShapeKind::kHandFlat, {20, 20}, 0));
+  shapes.push_back(Make(ShapeKind::kHandFive, {42, 20}, 0));
+  const cv::Mat estimate = EstimateBackground(camera.Render(shapes), 30.0);
+  const cv::Mat clear = camera.Background();
+  // away from the hands (beyond their halo and one 32 px block, about 3 cm) the estimate is the
+  // clear table within 8 grey (noise quantile offset plus interpolation); near them it may absorb
+  // part of the halo (brighter), but it is never more than 12 grey darker than the clear table,
+  // so it cannot lift the background noise over the 60 grey threshold anywhere
+  double worstFar = 0.0, worstDarker = 0.0;
+  for (int v = 0; v < clear.rows; ++v) {
+    for (int u = 0; u < clear.cols; ++u) {
+      const double diff = static_cast<double>(estimate.at<uint8_t>(v, u)) - clear.at<uint8_t>(v, u);
+      worstDarker = std::max(worstDarker, -diff);
+      const Vec2 t = camera.model().CameraToTable(Vec2(u, v));
+      double nearest = 1e9;
+      for (const ContactShape& s : shapes) nearest = std::min(nearest, ShapeDistance(s, t));
+      if (nearest > camera.params().haloWidth + 3.0) worstFar = std::max(worstFar, std::abs(diff));
+    }
+  }
+  EXPECT_LT(worstFar, 8.0);
+  EXPECT_LT(worstDarker, 12.0);
+}
+
+}  // namespace
+}  // namespace pg

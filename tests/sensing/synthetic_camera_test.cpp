@@ -1,0 +1,223 @@
+#include "proxygrasp/sensing/synthetic_camera.h"
+
+#include "proxygrasp/core/units.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pg {
+namespace {
+
+ContactShape Shape(ShapeKind kind, Vec2 pos = {30, 23}, double angle = 0.0) {
+  ContactShape s;
+  s.kind = kind;
+  s.pose.pos = pos;
+  s.pose.angle = angle;
+  return s;
+}
+
+double Len(const Contour& c) {
+  return Perimeter(c);
+}
+
+TEST(ShapeOutline, AnalyticAreas) {
+  // dense outlines (<= 0.05 cm steps) differ from the analytic areas by the chord loss only,
+  // well under 0.5%
+  ContactShape circle = Shape(ShapeKind::kCircle);
+  circle.radius = 1.3;
+  EXPECT_NEAR(SignedArea(ShapeOutline(circle)), kPi * 1.3 * 1.3, 0.005 * kPi * 1.69);
+  ContactShape ellipse = Shape(ShapeKind::kEllipse, {10, 10}, 0.4);
+  ellipse.radiusX = 2.0;
+  ellipse.radiusY = 0.7;
+  EXPECT_NEAR(SignedArea(ShapeOutline(ellipse)), kPi * 2.0 * 0.7, 0.005 * kPi * 1.4);
+  ContactShape capsule = Shape(ShapeKind::kCapsule);
+  capsule.radius = 0.8;
+  capsule.length = 4.0;
+  EXPECT_NEAR(SignedArea(ShapeOutline(capsule)), kPi * 0.64 + 2 * 0.8 * 4.0, 0.005 * 8.4);
+  ContactShape poly = Shape(ShapeKind::kConcavePolygon, {5, 5});
+  poly.points = {{0, 0}, {0, 2}, {2, 2}, {2, 1}, {1, 1}, {1, 0}};  // an L, clockwise
+  EXPECT_DOUBLE_EQ(SignedArea(ShapeOutline(poly)), 3.0);
+}
+
+TEST(ShapeOutline, OutlineIsTheZeroLevelOfTheDistance) {
+  // every outline point lies on the boundary the renderer draws (|distance| < 0.005 cm)
+  for (ShapeKind kind : {ShapeKind::kCircle, ShapeKind::kEllipse, ShapeKind::kCapsule,
+                         ShapeKind::kHandFive, ShapeKind::kHandFlat, ShapeKind::kHandCupped}) {
+    const ContactShape s = Shape(kind, {25, 20}, 0.7);
+    const Contour c = ShapeOutline(s);
+    ASSERT_GT(c.cols(), 50);
+    double worst = 0.0;
+    for (int i = 0; i < c.cols(); ++i)
+      worst = std::max(worst, std::abs(ShapeDistance(s, c.col(i))));
+    EXPECT_LT(worst, 0.005) << kShapeKindNames[static_cast<int>(kind)];
+    EXPECT_GT(SignedArea(c), 0.0) << "counter-clockwise";
+  }
+}
+
+TEST(ShapeOutline, HandSizes) {
+  // scale 1 is an adult hand about 19 cm long (heel of the palm to the middle fingertip)
+  for (ShapeKind kind : {ShapeKind::kHandFive, ShapeKind::kHandFlat}) {
+    const Contour c = ShapeOutline(Shape(kind, {0, 0}));
+    const double length = c.row(1).maxCoeff() - c.row(1).minCoeff();
+    EXPECT_NEAR(length, 19.0, 0.5) << kShapeKindNames[static_cast<int>(kind)];
+    ContactShape half = Shape(kind, {0, 0});
+    half.scale = 0.5;
+    const Contour h = ShapeOutline(half);
+    EXPECT_NEAR(h.row(1).maxCoeff() - h.row(1).minCoeff(), 0.5 * length, 0.05);
+  }
+  // the cupped hand's edge is a band about 1.5 cm thick: area / centreline length
+  const Contour cup = ShapeOutline(Shape(ShapeKind::kHandCupped, {0, 0}));
+  const double centreline = 5.4 * DegToRad(200.0);
+  const double capArea = kPi * 0.75 * 0.75;  // the two rounded ends
+  EXPECT_NEAR((SignedArea(cup) - capArea) / centreline, 1.5, 0.02);
+  EXPECT_NEAR(centreline + 1.5, 20.4, 1.5) << "about one hand long";
+  // the five fingers are spread: the outline has five tips, i.e. a long perimeter
+  EXPECT_GT(Len(ShapeOutline(Shape(ShapeKind::kHandFive))),
+            Len(ShapeOutline(Shape(ShapeKind::kHandFlat))) + 10.0);
+}
+
+TEST(ShapeOutline, PoseMovesTheOutline) {
+  const Contour a = ShapeOutline(Shape(ShapeKind::kHandFive, {0, 0}, 0.0));
+  const Contour b = ShapeOutline(Shape(ShapeKind::kHandFive, {10, 5}, kPi / 2));
+  ASSERT_EQ(a.cols(), b.cols());
+  for (int i = 0; i < a.cols(); i += 97)
+    EXPECT_LT((b.col(i) - (Rotate(a.col(i), kPi / 2) + Vec2(10, 5))).norm(), 1e-9);
+}
+
+TEST(SyntheticCamera, FrameFormatAndLevels) {
+  SyntheticCameraParams p;
+  p.noise = 0.0;
+  const TableParams table;
+  SyntheticCamera camera(p, table);
+  ContactShape disc = Shape(ShapeKind::kCircle, {30.5, 23.0});
+  disc.radius = 2.0;
+  const ContactShape shapes[] = {disc};
+  const cv::Mat frame = camera.Render(shapes);
+  ASSERT_EQ(frame.type(), CV_8UC1);
+  ASSERT_EQ(frame.size(), cv::Size(640, 480));
+  // the table centre is the image centre without perspective: full contact level there
+  EXPECT_NEAR(frame.at<uint8_t>(240, 320), p.contactLevel, 1.0);
+  // background: vignetting darkens the corners by 25%, the gradient brightens the right side
+  const double left = frame.at<uint8_t>(240, 5), right = frame.at<uint8_t>(240, 634);
+  EXPECT_NEAR(right - left, p.gradient * (1 - 0.25 * 0.64), 2.0);
+  EXPECT_NEAR(frame.at<uint8_t>(2, 2), (p.background - p.gradient / 2) * (1 - p.vignetting), 1.5);
+}
+
+TEST(SyntheticCamera, HaloIsDimmerThanContactAndBelowThreshold) {
+  SyntheticCameraParams p;
+  p.noise = 0.0;
+  const TableParams table;
+  SyntheticCamera camera(p, table);
+  const ContactShape hand = Shape(ShapeKind::kHandFlat, {30.5, 15.0});
+  const ContactShape shapes[] = {hand};
+  const cv::Mat frame = camera.Render(shapes);
+  const cv::Mat bg = camera.Background();
+  // a point 0.5 cm outside the hand: brighter than the background, below the 60 grey threshold
+  const Contour outline = ShapeOutline(hand);
+  const Vec2 out = outline.col(0) + 0.5 * (outline.col(0) - hand.pose.pos).normalized();
+  ASSERT_GT(ShapeDistance(hand, out), 0.3);
+  const Vec2 px = camera.model().TableToCamera(out);
+  const int above = frame.at<uint8_t>(std::lround(px.y()), std::lround(px.x())) -
+                    bg.at<uint8_t>(std::lround(px.y()), std::lround(px.x()));
+  EXPECT_GT(above, 10);
+  EXPECT_LT(above, 60);
+  // circles (fingertips hovering no hand) have no halo
+  ContactShape finger = Shape(ShapeKind::kCircle, {10, 10});
+  const ContactShape fingers[] = {finger};
+  const cv::Mat f = camera.Render(fingers);
+  const Vec2 near = camera.model().TableToCamera(Vec2(10 + finger.radius + 0.4, 10));
+  EXPECT_LE(std::abs(f.at<uint8_t>(std::lround(near.y()), std::lround(near.x())) -
+                     bg.at<uint8_t>(std::lround(near.y()), std::lround(near.x()))),
+            1);
+}
+
+TEST(SyntheticCamera, DeterministicForASeed) {
+  const TableParams table;
+  SyntheticCameraParams p;
+  const ContactShape shapes[] = {Shape(ShapeKind::kHandFive)};
+  SyntheticCamera a(p, table), b(p, table);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_EQ(cv::norm(a.Render(shapes), b.Render(shapes), cv::NORM_INF), 0.0);
+  p.seed = 2;
+  SyntheticCamera c(p, table);
+  SyntheticCamera d(SyntheticCameraParams{}, table);
+  EXPECT_GT(cv::norm(c.Render(shapes), d.Render(shapes), cv::NORM_INF), 0.0);
+  // consecutive frames differ by their noise only
+  SyntheticCamera e(SyntheticCameraParams{}, table);
+  const cv::Mat f0 = e.Render(shapes), f1 = e.Render(shapes);
+  EXPECT_GT(cv::norm(f0, f1, cv::NORM_INF), 0.0);
+  EXPECT_LT(cv::norm(f0, f1, cv::NORM_L2) / std::sqrt(640.0 * 480.0), 3.0 * std::sqrt(2.0) * 1.1);
+}
+
+TEST(SyntheticCamera, DistortionAndPerspectiveMoveTheImage) {
+  const TableParams table;
+  SyntheticCameraParams p;
+  p.distortion = -0.1;
+  p.perspective = 0.1;
+  SyntheticCamera camera(p, table);
+  const CameraModel& m = camera.model();
+  EXPECT_DOUBLE_EQ(m.distCoeffs[0], -0.1);
+  // the table's far corners appear inset by the keystone; the near ones at the image corners
+  const Vec2 farLeft = m.Distort(Vec2(-0.5 + 0.05 * 640, -0.5));
+  EXPECT_LT((m.TableToCamera(Vec2(0, 46)) - farLeft).norm(), 1e-6);
+  // a contact drawn at a table point appears at TableToCamera of it
+  ContactShape disc = Shape(ShapeKind::kCircle, {8.0, 40.0});
+  disc.radius = 1.0;
+  p.noise = 0.0;
+  SyntheticCamera quiet(p, table);
+  const ContactShape shapes[] = {disc};
+  const cv::Mat frame = quiet.Render(shapes);
+  const Vec2 px = quiet.model().TableToCamera(disc.pose.pos);
+  const cv::Point at(std::lround(px.x()), std::lround(px.y()));
+  // vignetting dims the contact too, but it stays far above the background there
+  EXPECT_GT(frame.at<uint8_t>(at) - quiet.Background().at<uint8_t>(at), 120);
+}
+
+TEST(SyntheticCamera, RenderTableImageUsesTheSameModel) {
+  const TableParams table;
+  SyntheticCameraParams p;
+  p.noise = 0.0;
+  p.distortion = 0.05;
+  SyntheticCamera camera(p, table);
+  // a 610x460 table image (0.1 cm pixels) with one white square at table (40..44, 10..14) cm
+  cv::Mat tableImage(460, 610, CV_8UC1, cv::Scalar(0));
+  tableImage(cv::Rect(400, 460 - 140, 40, 40)).setTo(255);
+  const cv::Mat frame = camera.RenderTableImage(tableImage);
+  const Vec2 inside = camera.model().TableToCamera(Vec2(42, 12));
+  const Vec2 outside = camera.model().TableToCamera(Vec2(47, 12));
+  EXPECT_GT(frame.at<uint8_t>(std::lround(inside.y()), std::lround(inside.x())), 200);
+  EXPECT_LT(frame.at<uint8_t>(std::lround(outside.y()), std::lround(outside.x())), 60);
+  // an empty table image is the clear table
+  EXPECT_LE(cv::norm(camera.RenderTableImage(cv::Mat(460, 610, CV_8UC1, cv::Scalar(0))),
+                     camera.Background(), cv::NORM_INF),
+            1.0);
+}
+
+TEST(SyntheticCamera, PressureDimsAContact) {
+  SyntheticCameraParams p;
+  p.noise = 0.0;
+  SyntheticCamera camera(p, TableParams{});
+  ContactShape light = Shape(ShapeKind::kCircle, {30.5, 23.0});
+  light.radius = 1.5;
+  light.pressure = 0.5;
+  const ContactShape shapes[] = {light};
+  const cv::Mat frame = camera.Render(shapes);
+  EXPECT_NEAR(frame.at<uint8_t>(240, 320), 0.5 * (p.contactLevel + p.background), 1.5);
+}
+
+TEST(DemoScene, KnownScenes) {
+  const TableParams table;
+  std::vector<ContactShape> shapes;
+  ASSERT_TRUE(DemoScene("fingers", 0, table, shapes));
+  EXPECT_TRUE(shapes.empty()) << "the demo scenes start with a clear table";
+  ASSERT_TRUE(DemoScene("fingers", 100, table, shapes));
+  EXPECT_EQ(shapes.size(), 10u);
+  ASSERT_TRUE(DemoScene("hands", 100, table, shapes));
+  ASSERT_EQ(shapes.size(), 2u);
+  EXPECT_EQ(shapes[0].kind, ShapeKind::kHandFlat);
+  EXPECT_FALSE(DemoScene("nope", 0, table, shapes));
+}
+
+}  // namespace
+}  // namespace pg

@@ -1,0 +1,1 @@
+proxygrasp_test(tracking tracker)

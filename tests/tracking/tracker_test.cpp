@@ -1,0 +1,302 @@
+#include "proxygrasp/tracking/tracker.h"
+
+#include "proxygrasp/core/units.h"
+#include "proxygrasp/sensing/sensor.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace pg {
+namespace {
+
+Blob BlobAt(double x, double y, double area = 2.0) {
+  Blob b;
+  b.centroid = Vec2(x, y);
+  b.area = area;
+  const double r = std::sqrt(area / kPi);
+  b.contour = Contour(2, 8);
+  for (int i = 0; i < 8; ++i)
+    b.contour.col(i) = b.centroid + r * Vec2(std::cos(i * kPi / 4), std::sin(i * kPi / 4));
+  b.boundsMin = b.centroid - Vec2(r, r);
+  b.boundsMax = b.centroid + Vec2(r, r);
+  return b;
+}
+
+ContourFrame Frame(int64_t index, std::vector<Blob> blobs) {
+  ContourFrame f;
+  f.index = index;
+  f.time = index / 60.0;
+  f.blobs = std::move(blobs);
+  return f;
+}
+
+const Contact* Find(const ContactSet& set, ContactId id) {
+  for (const Contact& c : set.contacts)
+    if (c.id == id) return &c;
+  return nullptr;
+}
+
+TEST(Tracker, NewContinuingLifted) {
+  Tracker t;
+  TrackingParams p;
+  ContactSet s0 = t.Update(p, Frame(0, {BlobAt(10, 10), BlobAt(30, 10)}));
+  ASSERT_EQ(s0.contacts.size(), 2u);
+  EXPECT_EQ(s0.frame, 0);
+  EXPECT_EQ(s0.contacts[0].state, ContactState::kNew);
+  EXPECT_EQ(s0.contacts[0].id, 1);
+  EXPECT_EQ(s0.contacts[1].id, 2);
+
+  // the first moves 1 cm, the second is lifted, a third appears
+  ContactSet s1 = t.Update(p, Frame(1, {BlobAt(11, 10), BlobAt(50, 40)}));
+  ASSERT_EQ(s1.contacts.size(), 3u);
+  EXPECT_EQ(s1.contacts[0].id, 1);
+  EXPECT_EQ(s1.contacts[0].state, ContactState::kContinuing);
+  EXPECT_DOUBLE_EQ(s1.contacts[0].blob.centroid.x(), 11.0);
+  EXPECT_EQ(s1.contacts[1].id, 3);
+  EXPECT_EQ(s1.contacts[1].state, ContactState::kNew);
+  // lifted ones come after the current ones, with their last blob
+  EXPECT_EQ(s1.contacts[2].id, 2);
+  EXPECT_EQ(s1.contacts[2].state, ContactState::kLifted);
+  EXPECT_DOUBLE_EQ(s1.contacts[2].blob.centroid.x(), 30.0);
+
+  // a lifted contact is reported once only
+  ContactSet s2 = t.Update(p, Frame(2, {BlobAt(11, 10), BlobAt(50, 40)}));
+  ASSERT_EQ(s2.contacts.size(), 2u);
+  EXPECT_EQ(Find(s2, 2), nullptr);
+}
+
+TEST(Tracker, FartherThanMaxDistanceIsANewContact) {
+  Tracker t;
+  TrackingParams p;
+  p.maxDistance = 2.0;
+  t.Update(p, Frame(0, {BlobAt(10, 10)}));
+  ContactSet s = t.Update(p, Frame(1, {BlobAt(12.5, 10)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[0].state, ContactState::kNew);
+  EXPECT_EQ(s.contacts[0].id, 2);
+  EXPECT_EQ(s.contacts[1].state, ContactState::kLifted);
+  EXPECT_EQ(s.contacts[1].id, 1);
+  // exactly at the threshold still matches
+  ContactSet at = t.Update(p, Frame(2, {BlobAt(14.5, 10)}));
+  EXPECT_EQ(at.contacts[0].id, 2);
+  EXPECT_EQ(at.contacts[0].state, ContactState::kContinuing);
+}
+
+TEST(Tracker, GloballyNearestPairsFirst) {
+  // previous A at x=0 and B at x=3; current blobs at x=2 and x=3.5. Matching blob by blob in
+  // order would give the x=2 blob to its nearest, B (distance 1), and leave A and the x=3.5 blob
+  // unmatched (3.5 > 2.5); the global order takes (B, 3.5) = 0.5 first, then (A, 2) = 2
+  Tracker t;
+  TrackingParams p;
+  p.maxDistance = 2.5;
+  t.Update(p, Frame(0, {BlobAt(0, 0), BlobAt(3, 0)}));
+  ContactSet s = t.Update(p, Frame(1, {BlobAt(2, 0), BlobAt(3.5, 0)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[0].id, 1);  // the blob at x=2 continues A
+  EXPECT_EQ(s.contacts[1].id, 2);  // the blob at x=3.5 continues B
+  EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+  EXPECT_EQ(s.contacts[1].state, ContactState::kContinuing);
+}
+
+TEST(Tracker, MergeKeepsTheNearestIdAndLiftsTheOther) {
+  // two fingertips (areas 2 and 1) merge into one blob whose centroid is area-weighted
+  Tracker t;
+  TrackingParams p;
+  t.Update(p, Frame(0, {BlobAt(10, 10, 2.0), BlobAt(12, 10, 1.0)}));
+  ContactSet s = t.Update(p, Frame(1, {BlobAt(10.7, 10, 3.0)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[0].id, 1);  // the larger finger's centroid is nearer
+  EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+  EXPECT_EQ(s.contacts[1].id, 2);
+  EXPECT_EQ(s.contacts[1].state, ContactState::kLifted);
+}
+
+TEST(Tracker, SplitKeepsTheNearestPieceAndTheOtherIsNew) {
+  Tracker t;
+  TrackingParams p;
+  t.Update(p, Frame(0, {BlobAt(10.7, 10, 3.0)}));
+  ContactSet s = t.Update(p, Frame(1, {BlobAt(10, 10, 2.0), BlobAt(12, 10, 1.0)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[0].id, 1);
+  EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+  EXPECT_EQ(s.contacts[1].id, 2);
+  EXPECT_EQ(s.contacts[1].state, ContactState::kNew);
+}
+
+TEST(Tracker, IdsAreNeverReused) {
+  Tracker t;
+  TrackingParams p;
+  std::set<ContactId> seen;
+  for (int i = 0; i < 20; ++i) {
+    // a contact appears every other frame and vanishes the next
+    ContactSet s =
+        t.Update(p, Frame(i, i % 2 == 0 ? std::vector<Blob>{BlobAt(10, 10)} : std::vector<Blob>{}));
+    for (const Contact& c : s.contacts) {
+      if (c.state == ContactState::kNew) {
+        EXPECT_TRUE(seen.insert(c.id).second) << "id " << c.id << " reused";
+      }
+    }
+  }
+  EXPECT_EQ(seen.size(), 10u);
+  t.Reset();
+  ContactSet after = t.Update(p, Frame(20, {BlobAt(10, 10)}));
+  EXPECT_EQ(after.contacts[0].state, ContactState::kNew);
+  EXPECT_EQ(after.contacts[0].id, 11) << "Reset forgets contacts, not the id counter";
+}
+
+// the acceptance scenarios through the real pipeline: synthetic camera -> sensor -> tracker
+
+struct Pipeline {
+  Pipeline() : camera(Params(), table) {
+    EXPECT_FALSE(sensor.Configure(SensingParams{}, table, CalibrationFromModel(camera.model())));
+    EXPECT_FALSE(sensor.SetBackground(camera.Background()));
+  }
+  static SyntheticCameraParams Params() {
+    SyntheticCameraParams p;
+    p.distortion = -0.05;
+    p.perspective = 0.04;
+    return p;
+  }
+  ContactSet Step(std::span<const ContactShape> shapes) {
+    Result<ContourFrame> f = sensor.Process(camera.Render(shapes), frame, frame / 60.0);
+    EXPECT_TRUE(f) << f.error().Format();
+    ++frame;
+    return tracker.Update(TrackingParams{}, f.value());
+  }
+  TableParams table;
+  SyntheticCamera camera;
+  Sensor sensor;
+  Tracker tracker;
+  int64_t frame = 0;
+};
+
+std::vector<ContactShape> TenFingertips(int frame) {
+  // ten fingertips on two hands, each circling on its own (up to ~20 cm/s at 60 Hz, 0.35 cm per
+  // frame), 3 cm apart at rest
+  std::vector<ContactShape> shapes;
+  const double t = frame / 60.0;
+  for (int i = 0; i < 10; ++i) {
+    ContactShape s;
+    s.radius = 0.7 + 0.03 * (i % 5);
+    const Vec2 home(12.0 + 4.0 * i, 23.0 + ((i % 5 == 0) ? -3.0 : 0.0));
+    s.pose.pos = home + Vec2(1.0 * std::cos(3.0 * t + i), 4.0 * std::sin(2.0 * t + 0.5 * i));
+    shapes.push_back(s);
+  }
+  return shapes;
+}
+
+TEST(TrackerPipeline, TenFingertipsKeepTheirIdsFor200Frames) {
+  Pipeline p;
+  std::map<int, ContactId> idOf;  // shape index -> id
+  for (int frame = 0; frame < 200; ++frame) {
+    const std::vector<ContactShape> shapes = TenFingertips(frame);
+    const ContactSet set = p.Step(shapes);
+    ASSERT_EQ(set.contacts.size(), 10u) << "frame " << frame;
+    for (const Contact& c : set.contacts) {
+      // which fingertip is this? the one whose centre is nearest the blob's centroid
+      int nearest = 0;
+      for (int i = 1; i < 10; ++i)
+        if ((shapes[i].pose.pos - c.blob.centroid).norm() <
+            (shapes[nearest].pose.pos - c.blob.centroid).norm())
+          nearest = i;
+      // a disc's centroid is its centre: within a tenth of a pixel or so
+      EXPECT_LT((shapes[nearest].pose.pos - c.blob.centroid).norm(), 0.05);
+      if (frame == 0) {
+        EXPECT_EQ(c.state, ContactState::kNew);
+        idOf[nearest] = c.id;
+      } else {
+        EXPECT_EQ(c.state, ContactState::kContinuing) << "frame " << frame;
+        EXPECT_EQ(c.id, idOf[nearest])
+            << "fingertip " << nearest << " changed id at frame " << frame;
+      }
+    }
+  }
+  EXPECT_EQ(idOf.size(), 10u);
+}
+
+TEST(TrackerPipeline, LiftedFingerPutDownAgainGetsANewId) {
+  Pipeline p;
+  ContactShape a, b;
+  a.pose.pos = {20, 20};
+  b.pose.pos = {35, 20};
+  const ContactShape both[] = {a, b};
+  const ContactShape onlyA[] = {a};
+  ContactSet s = p.Step(both);
+  ASSERT_EQ(s.contacts.size(), 2u);
+  ContactId idB = kNoId;
+  for (const Contact& c : s.contacts)
+    if (c.blob.centroid.x() > 30) idB = c.id;
+  ASSERT_NE(idB, kNoId);
+  p.Step(both);
+  // lift b: it is reported lifted once, with its last blob
+  s = p.Step(onlyA);
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[1].id, idB);
+  EXPECT_EQ(s.contacts[1].state, ContactState::kLifted);
+  EXPECT_NEAR(s.contacts[1].blob.centroid.x(), 35.0, 0.05);
+  s = p.Step(onlyA);
+  ASSERT_EQ(s.contacts.size(), 1u);
+  // put it down at the same place: a new id, larger than any before
+  s = p.Step(both);
+  ASSERT_EQ(s.contacts.size(), 2u);
+  const Contact* down = nullptr;
+  for (const Contact& c : s.contacts)
+    if (c.blob.centroid.x() > 30) down = &c;
+  ASSERT_NE(down, nullptr);
+  EXPECT_EQ(down->state, ContactState::kNew);
+  EXPECT_NE(down->id, idB);
+  EXPECT_GT(down->id, idB);
+}
+
+TEST(TrackerPipeline, FingersMergingAndSplitting) {
+  // two fingertips slide together until they touch (one blob), then apart again
+  Pipeline p;
+  ContactShape left, right;
+  left.radius = 0.9;
+  right.radius = 0.7;
+  std::vector<ContactId> idsBefore;
+  ContactId mergedId = kNoId;
+  bool sawMerge = false, sawSplit = false;
+  for (int frame = 0; frame < 40; ++frame) {
+    // gap closes from 2 cm to overlapping by 0.3 cm at frame 20, then opens again
+    const double gap = 2.0 - 2.3 * (1.0 - std::abs(frame - 20) / 20.0);
+    left.pose.pos = {30.0 - 0.5 * gap - left.radius, 20.0};
+    right.pose.pos = {30.0 + 0.5 * gap + right.radius, 20.0};
+    const ContactShape shapes[] = {left, right};
+    const ContactSet s = p.Step(shapes);
+    int current = 0;
+    for (const Contact& c : s.contacts) current += c.state != ContactState::kLifted;
+    if (frame == 0) {
+      ASSERT_EQ(current, 2);
+      for (const Contact& c : s.contacts) idsBefore.push_back(c.id);
+    }
+    if (current == 1 && !sawMerge) {
+      sawMerge = true;
+      // the merged blob continues the bigger finger's id (its centroid is nearer); the smaller
+      // finger is lifted
+      ASSERT_EQ(s.contacts.size(), 2u);
+      EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+      EXPECT_EQ(s.contacts[0].id, idsBefore[0]);
+      EXPECT_EQ(s.contacts[1].state, ContactState::kLifted);
+      EXPECT_EQ(s.contacts[1].id, idsBefore[1]);
+      mergedId = s.contacts[0].id;
+    }
+    if (sawMerge && current == 2 && !sawSplit) {
+      sawSplit = true;
+      // on the split the piece nearest the merged centroid keeps the id, the other is new
+      EXPECT_EQ(s.contacts[0].id, mergedId);
+      EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+      EXPECT_EQ(s.contacts[1].state, ContactState::kNew);
+      EXPECT_GT(s.contacts[1].id, idsBefore[1]);
+    }
+  }
+  EXPECT_TRUE(sawMerge);
+  EXPECT_TRUE(sawSplit);
+}
+
+}  // namespace
+}  // namespace pg
