@@ -1,8 +1,9 @@
 // `proxygrasp run`: runs levels headless through the whole pipeline and checks their expectations.
-#include <iostream>
-
 #include "commands.h"
+
 #include "proxygrasp/level/runner.h"
+
+#include <iostream>
 
 namespace pg {
 
@@ -20,6 +21,7 @@ struct RunArgs {
 int RunLevels(const RunArgs& args) {
   RunOptions options;
   options.frames = args.frames;
+  options.traceDir = args.traceDir;
   if (!args.mode.empty()) {
     options.mode = args.mode == "instant" ? ProxyMode::kInstant : ProxyMode::kPersistent;
   }
@@ -71,8 +73,9 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
       "run", "Run levels headless through the whole pipeline and check their expectations");
   // CLI11 binds options by reference, so they live as long as the program
   static RunArgs args;
-  cmd->add_option("levels", args.levels, "Level files (TOML)")->required()->check(
-      CLI::ExistingFile);
+  cmd->add_option("levels", args.levels, "Level files (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--set", args.sets, "Override a parameter: section.key=value (repeatable)");
   cmd->add_option("--mode", args.mode, "Force the proxy mode of every run")
       ->check(CLI::IsMember({"persistent", "instant"}));

@@ -1,13 +1,13 @@
 #include "proxygrasp/level/runner.h"
 
+#include "proxygrasp/core/text.h"
+#include "proxygrasp/core/units.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-
-#include "proxygrasp/core/text.h"
-#include "proxygrasp/core/units.h"
 
 namespace pg {
 
@@ -32,8 +32,8 @@ std::string RunName(const LevelRun& run) {
 struct ObjectTrack {
   Vec2 start = Vec2::Zero();
   double lastAngle = 0.0;
-  double rotation = 0.0;      // unwrapped signed rotation since the start, rad
-  std::vector<bool> held;     // held flag of every frame
+  double rotation = 0.0;   // unwrapped signed rotation since the start, rad
+  std::vector<bool> held;  // held flag of every frame
 };
 
 class Evaluator {
@@ -135,10 +135,11 @@ class Evaluator {
         // held when the object was held in most of the last kHeldFrames frames
         const std::vector<bool>& held = m_objects[static_cast<size_t>(object)].held;
         const size_t n = std::min<size_t>(held.size(), kHeldFrames);
-        const auto heldCount = std::count(held.end() - static_cast<std::ptrdiff_t>(n), held.end(), true);
+        const auto heldCount =
+            std::count(held.end() - static_cast<std::ptrdiff_t>(n), held.end(), true);
         const bool isHeld = n > 0 && 2 * static_cast<size_t>(heldCount) > n;
-        r.measured = std::string(isHeld ? "held" : "not held") + " (" +
-                     std::to_string(heldCount) + "/" + std::to_string(n) + " frames)";
+        r.measured = std::string(isHeld ? "held" : "not held") + " (" + std::to_string(heldCount) +
+                     "/" + std::to_string(n) + " frames)";
         r.passed = isHeld == e.held;
         break;
       }
@@ -185,8 +186,8 @@ void AppendFrameRow(const FrameStats& f, double t, std::string& csv) {
   csv += std::to_string(f.frame) + "," + Fixed(t, 6) + "," + std::to_string(f.contacts) + "," +
          std::to_string(f.particles) + "," + std::to_string(f.created) + "," +
          std::to_string(f.deleted) + "," + std::to_string(f.bodies) + "," + Fixed(f.senseMs, 4) +
-         "," + Fixed(f.trackMs, 4) + "," + Fixed(f.proxyMs, 4) + "," + Fixed(f.physicsMs, 4) +
-         "," + Fixed(f.totalMs, 4) + "\n";
+         "," + Fixed(f.trackMs, 4) + "," + Fixed(f.proxyMs, 4) + "," + Fixed(f.physicsMs, 4) + "," +
+         Fixed(f.totalMs, 4) + "\n";
 }
 
 Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptions& options,
@@ -200,10 +201,10 @@ Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptio
   out.framesCsv = std::string(kFramesCsvHeader) + "\n";
 
   const double frameDuration = sim.FrameDuration();
-  const int64_t frames = options.frames >= 0
-                             ? options.frames
-                             : static_cast<int64_t>(std::ceil(level.script.duration /
-                                                              frameDuration - 1e-9));
+  const int64_t frames =
+      options.frames >= 0
+          ? options.frames
+          : static_cast<int64_t>(std::ceil(level.script.duration / frameDuration - 1e-9));
   Evaluator evaluator(level, run, sim);
   for (int64_t i = 0; i < frames; ++i) {
     if (Status s = sim.StepScript()) {
@@ -269,9 +270,9 @@ Status WriteTrace(const RunResult& run, const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) return MakeError({dir}, "cannot create the trace folder: " + ec.message());
-  for (const auto& [name, text] : {std::pair<std::string, const std::string*>{"objects.csv",
-                                                                             &run.objectsCsv},
-                                   {"frames.csv", &run.framesCsv}}) {
+  for (const auto& [name, text] :
+       {std::pair<std::string, const std::string*>{"objects.csv", &run.objectsCsv},
+        {"frames.csv", &run.framesCsv}}) {
     const std::string path = dir + "/" + name;
     std::ofstream out(path, std::ios::binary);
     out << *text;
@@ -290,6 +291,9 @@ std::string FormatReport(const Level& level, const LevelResult& result) {
       std::snprintf(line, sizeof(line), "    %-4s  %-48s  measured %s\n",
                     r.passed ? "PASS" : "FAIL", r.text.c_str(), r.measured.c_str());
       out += line;
+      if (r.expectation && !r.expectation->label.empty()) {
+        out += "          (" + r.expectation->label + ")\n";
+      }
       if (!r.passed && r.expectation) {
         out += "          at " + r.expectation->loc.Format() + "\n";
       }
@@ -310,14 +314,13 @@ std::string FormatProfile(const LevelResult& result) {
       total.push_back(f.totalMs);
     }
   }
-  std::string out = "  stage      median ms    p99 ms   (" + std::to_string(total.size()) +
-                    " frames)\n";
-  for (const auto& [name, values] :
-       {std::pair<const char*, std::vector<double>*>{"sense", &sense},
-        {"track", &track},
-        {"proxies", &proxy},
-        {"physics", &physics},
-        {"total", &total}}) {
+  std::string out =
+      "  stage      median ms    p99 ms   (" + std::to_string(total.size()) + " frames)\n";
+  for (const auto& [name, values] : {std::pair<const char*, std::vector<double>*>{"sense", &sense},
+                                     {"track", &track},
+                                     {"proxies", &proxy},
+                                     {"physics", &physics},
+                                     {"total", &total}}) {
     char line[128];
     std::snprintf(line, sizeof(line), "  %-9s %10.3f %9.3f\n", name, Percentile(*values, 0.5),
                   Percentile(*values, 0.99));

@@ -1,10 +1,10 @@
 #include "proxygrasp/level/simulation.h"
 
-#include <algorithm>
-#include <limits>
-
 #include "proxygrasp/core/timer.h"
 #include "proxygrasp/level/script.h"
+
+#include <algorithm>
+#include <limits>
 
 namespace pg {
 
@@ -29,7 +29,9 @@ Status Simulation::Start(const Level& level, const LevelParams& params) {
   return std::nullopt;
 }
 
-double Simulation::Time() const { return static_cast<double>(m_frame) * FrameDuration(); }
+double Simulation::Time() const {
+  return static_cast<double>(m_frame) * FrameDuration();
+}
 
 Status Simulation::StepScript() {
   m_shapeScript.clear();

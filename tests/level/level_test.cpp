@@ -641,7 +641,8 @@ TEST(Level, TheDocsExampleLoads) {
 }
 
 TEST(Level, SharedBaseOfThePapersLevelsLoads) {
-  const Result<Level> r = LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) + "/levels/shared/base.toml");
+  const Result<Level> r =
+      LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) + "/levels/shared/base.toml");
   ASSERT_TRUE(r.ok()) << r.error().Format();
   EXPECT_TRUE(r.value().objects.empty());
 }

@@ -3,15 +3,15 @@
 // `proxygrasp run`, the level tests and the app's script input all use it.
 #pragma once
 
+#include "proxygrasp/core/error.h"
+#include "proxygrasp/level/level.h"
+#include "proxygrasp/level/simulation.h"
+
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include "proxygrasp/core/error.h"
-#include "proxygrasp/level/level.h"
-#include "proxygrasp/level/simulation.h"
 
 namespace pg {
 

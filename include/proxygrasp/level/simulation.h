@@ -3,14 +3,6 @@
 // all drive it, so every input path runs the same stages in the same order.
 #pragma once
 
-#include <opencv2/core.hpp>
-
-#include <cstdint>
-#include <memory>
-#include <span>
-#include <string>
-#include <vector>
-
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/level/level.h"
 #include "proxygrasp/physics/layered_world.h"
@@ -18,6 +10,14 @@
 #include "proxygrasp/sensing/sensor.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 #include "proxygrasp/tracking/tracker.h"
+
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
 
 namespace pg {
 
