@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 
 namespace pg {
@@ -108,10 +109,100 @@ void LayeredWorld::Impl::StepLayers() {
   });
 }
 
+namespace {
+
+// projected Gauss-Seidel sweeps over one object's friction impulses in one substep; the impulses
+// of a few dozen particles and the table settle to 1e-6 of their size well within this
+constexpr int kFrictionIterations = 16;
+
+// a limit counts as reached within this fraction, so a converged static solve is not taken as
+// sliding through rounding
+constexpr double kLimitReached = 1.0 - 1e-9;
+
+Vec2 ClampNorm(const Vec2& v, double limit) {
+  const double n = v.norm();
+  return n > limit && n > 0.0 ? Vec2(v * (limit / n)) : v;
+}
+
+}  // namespace
+
+LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
+    int oi, const std::vector<int>& onTop, const Vec2& center, const Vec2& vel0, double omega0,
+    double normal, bool kinetic, const FrictionSolve* staticPass) const {
+  const ObjectData& o = objects[oi];
+  const double M = o.props.mass, I = o.props.inertia;
+  const double mu = particleFriction[oi];
+  const double fdt = params.particleDownForce * dt;
+  const size_t n = onTop.size();
+  FrictionSolve r;
+  r.vel = vel0;
+  r.omega = omega0;
+  r.top.assign(n, Vec2::Zero());
+  r.topSliding.assign(n, false);
+
+  // impulse limits: static, or kinetic for the contacts that slid in the static pass
+  std::vector<double> topLimit(n, mu * fdt);
+  double tableLimit = o.spec.tableStatic * normal * dt;
+  double spinLimit = o.spec.tableStatic * normal * o.rEff * dt;
+  if (kinetic) {
+    for (size_t k = 0; k < n; ++k) {
+      if (staticPass->topSliding[k]) topLimit[k] *= params.topKineticFactor;
+    }
+    if (staticPass->tableSliding) tableLimit = o.spec.tableKinetic * normal * dt;
+    if (staticPass->spinSliding) spinLimit = o.spec.tableKinetic * normal * o.rEff * dt;
+  }
+
+  // each resting particle: its lever arm, its velocity, and the object's point mass there
+  std::vector<Vec2> arm(n), particleVel(n);
+  std::vector<Eigen::Matrix2d> pointMass(n);
+  for (size_t k = 0; k < n; ++k) {
+    const b2Body* base = particles[onTop[k]].bodies.front();
+    const Vec2 a = FromB2(base->GetPosition()) - center;
+    arm[k] = a;
+    particleVel[k] = FromB2(base->GetLinearVelocity());
+    // inverse effective mass of the object at the point: K = 1/M + r_perp r_perp^T / I
+    Eigen::Matrix2d K;
+    K << 1.0 / M + a.y() * a.y() / I, -a.x() * a.y() / I, -a.x() * a.y() / I,
+        1.0 / M + a.x() * a.x() / I;
+    pointMass[k] = K.inverse();
+  }
+
+  for (int it = 0; it < kFrictionIterations; ++it) {
+    // top friction: each particle drags the surface point under it towards its own velocity
+    for (size_t k = 0; k < n; ++k) {
+      const Vec2& a = arm[k];
+      const Vec2 surface = r.vel + r.omega * Vec2(-a.y(), a.x());
+      const Vec2 total =
+          ClampNorm(r.top[k] + pointMass[k] * (particleVel[k] - surface), topLimit[k]);
+      const Vec2 change = total - r.top[k];
+      r.top[k] = total;
+      r.vel += change / M;
+      r.omega += Cross(a, change) / I;
+    }
+    // table friction: resists the object's sliding with the full mass
+    const Vec2 table = ClampNorm(r.table - M * r.vel, tableLimit);
+    r.vel += (table - r.table) / M;
+    r.table = table;
+    if (o.rEff > 0) {
+      const double spin = std::clamp(r.spin - I * r.omega, -spinLimit, spinLimit);
+      r.omega += (spin - r.spin) / I;
+      r.spin = spin;
+    }
+  }
+
+  // which limits were reached
+  for (size_t k = 0; k < n; ++k) {
+    r.topSliding[k] = r.top[k].norm() >= kLimitReached * topLimit[k];
+    r.anyTopSliding = r.anyTopSliding || r.topSliding[k];
+  }
+  r.tableSliding = r.table.norm() >= kLimitReached * tableLimit && r.vel.norm() > 0.0;
+  r.spinSliding = o.rEff > 0 && std::abs(r.spin) >= kLimitReached * spinLimit && r.omega != 0.0;
+  return r;
+}
+
 void LayeredWorld::Impl::Couple() {
   const double g = params.gravity;
   const double fd = params.particleDownForce;
-  const double kineticFactor = params.topKineticFactor;
 
   // particles resting on each object's top
   std::vector<std::vector<int>> onTop(objects.size());
@@ -144,57 +235,42 @@ void LayeredWorld::Impl::Couple() {
     double omega = o.omega + dw;
     const Vec2 centerAfterStep = o.center + vel * dt + corr;
 
-    // top friction: each resting particle drags the surface point under it (Coulomb, static
-    // then kinetic), Gauss-Seidel over the particles in creation order
-    const double mu = particleFriction[oi];
-    for (int pi : onTop[oi]) {
-      ParticleData& p = particles[pi];
-      b2Body* base = p.bodies.front();
-      const Vec2 x = FromB2(base->GetPosition());
-      const Vec2 r = x - centerAfterStep;
-      const Vec2 surface = vel + omega * Vec2(-r.y(), r.x());
-      const Vec2 rel = FromB2(base->GetLinearVelocity()) - surface;
-      // inverse effective mass of the object at the point: K = 1/M + r_perp r_perp^T / I
-      Eigen::Matrix2d K;
-      K << 1.0 / M + r.y() * r.y() / I, -r.x() * r.y() / I, -r.x() * r.y() / I,
-          1.0 / M + r.x() * r.x() / I;
-      Vec2 J = K.inverse() * rel;
-      const double jn = fd * dt;
-      if (J.norm() > mu * jn) J *= mu * kineticFactor * jn / J.norm();
-      vel += J / M;
-      omega += Cross(r, J) / I;
-      base->ApplyLinearImpulseToCenter(ToB2(-J), true);
-      o.topFriction += J;
+    // top friction and table friction are solved together: a finger on top can only drag the
+    // object when its friction beats the table's, which a sequential pass gets wrong (top
+    // friction would only supply what matches the finger's speed in one substep, and the table's
+    // static check would then cancel it every substep)
+    const double N = M * g + fd * static_cast<double>(onTop[oi].size());
+    FrictionSolve solve = SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, N, false);
+    // Coulomb: where a static limit is reached the contact slides, and slides at kinetic friction
+    if (solve.tableSliding || solve.spinSliding || solve.anyTopSliding) {
+      solve = SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, N, true, &solve);
     }
-    const double topForce = fd * static_cast<double>(onTop[oi].size());
-    o.topNormal += topForce * dt;
+    for (size_t k = 0; k < onTop[oi].size(); ++k) {
+      particles[onTop[oi][k]].bodies.front()->ApplyLinearImpulseToCenter(ToB2(-solve.top[k]), true);
+      o.topFriction += solve.top[k];
+    }
+    o.topNormal += fd * static_cast<double>(onTop[oi].size()) * dt;
     o.particlesOnTop = static_cast<int>(onTop[oi].size());
 
-    // this substep's displacement follows the velocity the contacts and top friction left
-    Vec2 move = vel * dt + corr;
-    double turn = omega * dt + corrA;
-
-    // table friction with the full mass: static holds when the impulse that stops the object
-    // fits under mu_s N dt, and then the substep's displacement is undone; otherwise kinetic
-    // friction takes mu_k N dt off the momentum for the next substep (taking it off this
-    // substep's displacement too would make a carried object slip out of a steady grip)
-    const double N = M * g + topForce;
-    const double speed = vel.norm();
-    if (M * speed <= o.spec.tableStatic * N * dt) {
-      vel.setZero();
+    // the substep's displacement: static table friction undoes it (a push below mu_s M g holds the
+    // object exactly still). Kinetic table friction takes momentum off for the next substep; with
+    // only side contacts it does not shorten this substep's displacement, because the contacts
+    // (solved inside Box2D before it) restore it next substep and taking it twice would make a
+    // carried object slip out of a steady grip. Top friction is solved together with the table
+    // here, so with particles on top the displacement follows the velocity after both.
+    const bool topDrag = !onTop[oi].empty();
+    Vec2 move = (topDrag ? solve.vel : Vec2(solve.vel - solve.table / M)) * dt + corr;
+    double turn = (topDrag ? solve.omega : solve.omega - solve.spin / I) * dt + corrA;
+    if (!solve.tableSliding) {
+      solve.vel.setZero();
       move = corr;
-    } else {
-      vel *= std::max(0.0, speed - o.spec.tableKinetic * N * dt / M) / speed;
     }
-    if (o.rEff > 0) {
-      const double spin = std::abs(omega);
-      if (I * spin <= o.spec.tableStatic * N * o.rEff * dt) {
-        omega = 0.0;
-        turn = corrA;
-      } else {
-        omega *= std::max(0.0, spin - o.spec.tableKinetic * N * o.rEff * dt / I) / spin;
-      }
+    if (o.rEff > 0 && !solve.spinSliding) {
+      solve.omega = 0.0;
+      turn = corrA;
     }
+    vel = solve.vel;
+    omega = solve.omega;
 
     o.center += move;
     o.angle += turn;

@@ -192,6 +192,24 @@ struct LayeredWorld::Impl {
   void StepLayers();
   /// Couples each object's slices into one state, applies top and table friction, writes back.
   void Couple();
+  /// The friction impulses of one object in one substep, solved together.
+  struct FrictionSolve {
+    Vec2 vel = Vec2::Zero();       ///< object velocity after friction, cm/s
+    double omega = 0.0;            ///< object angular velocity after friction, rad/s
+    std::vector<Vec2> top;         ///< impulse each resting particle gives the object, g cm/s
+    Vec2 table = Vec2::Zero();     ///< impulse of table friction, g cm/s
+    double spin = 0.0;             ///< angular impulse of table friction, g cm^2/s
+    std::vector<bool> topSliding;  ///< the particle's impulse reached its limit
+    bool tableSliding = false;     ///< table friction reached its limit
+    bool spinSliding = false;      ///< turning friction reached its limit
+    bool anyTopSliding = false;
+  };
+  /// Projected Gauss-Seidel over the top friction of the particles resting on object oi and its
+  /// table friction (linear and turning), starting from velocity vel0, omega0 and the table's
+  /// normal force (dyn). With kinetic, the contacts that slid in staticPass get kinetic limits.
+  FrictionSolve SolveFriction(int oi, const std::vector<int>& onTop, const Vec2& center,
+                              const Vec2& vel0, double omega0, double normal, bool kinetic,
+                              const FrictionSolve* staticPass = nullptr) const;
   /// Adds the layers' contact records to the objects' frame diagnostics.
   void CollectRecords(bool lastSubstep);
   /// Writes the object's coupled state to all its slices.
