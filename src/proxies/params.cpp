@@ -7,6 +7,9 @@ void Describe(ProxyParams& p, ParamVisitor& v) {
             "persistent particle proxies, or per-frame (instant) particles");
   VisitEnum(v, "algorithm", p.algorithm, kMatchAlgorithmNames, "successor search algorithm");
   v.Integer("window", p.window, 0, 64, "points", "n, contour points summed around each match");
+  v.Boolean("subsample", p.subsample,
+            "refine each reused particle's target between contour samples, so slow motion along "
+            "the contour is followed smoothly instead of in hops of one sample");
   v.Integer("search_radius", p.searchRadius, 1, 512, "points",
             "w, half-width of the windowed search around the predicted offset");
   v.Real("fallback_score", p.fallbackScore, 0, 100, "cm^2",

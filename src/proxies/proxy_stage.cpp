@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <set>
 #include <string>
 #include <unordered_set>
@@ -41,6 +42,69 @@ int NearestKept(const std::vector<int>& pred, int j) {
     if (pred[after] >= 0) return after;
   }
   return -1;
+}
+
+// The contact's rigid motion from the previous contour to the current one: the least-squares
+// rotation (2D Procrustes) of the matched pairs (k, successor[k]) and the translation of the area
+// centroid about it. Sub-sample motion is invisible to each point's own match where the contour
+// runs along the motion (the aperture problem); the whole contour's motion is not.
+Pose2 RigidMotion(const Contour& prev, const Contour& cur, const std::vector<int>& successor) {
+  Vec2 meanPrev = Vec2::Zero(), meanCur = Vec2::Zero();
+  int count = 0;
+  for (size_t k = 0; k < successor.size(); ++k) {
+    if (successor[k] < 0) continue;
+    meanPrev += prev.col(static_cast<Eigen::Index>(k));
+    meanCur += cur.col(successor[k]);
+    ++count;
+  }
+  if (count == 0) return Pose2{};
+  meanPrev /= count;
+  meanCur /= count;
+  double dot = 0.0, cross = 0.0;
+  for (size_t k = 0; k < successor.size(); ++k) {
+    if (successor[k] < 0) continue;
+    const Vec2 a = prev.col(static_cast<Eigen::Index>(k)) - meanPrev;
+    const Vec2 b = cur.col(successor[k]) - meanCur;
+    dot += a.dot(b);
+    cross += Cross(a, b);
+  }
+  const double angle = std::atan2(cross, dot);
+  // the translation comes from the area centroids: the pairs' own means inherit the lag of the
+  // points whose matches cannot see motion along the contour
+  const Vec2 centroidPrev = PolygonCentroid(prev);
+  const Vec2 centroidCur = PolygonCentroid(cur);
+  return Pose2{centroidCur - Rotate(centroidPrev, angle), angle};
+}
+
+// how many contour samples on either side of its match a reused particle's target may move to:
+// a match lags sub-sample motion by up to a sample or two where the contour runs along the motion
+constexpr int kSubsampleReach = 3;
+
+// The reused particle's target: its last target moved by the contact's rigid motion, then put
+// back on the current contour at the nearest point of the segments within kSubsampleReach samples
+// of its match j (so it stays near its match and on the contour).
+Vec2 SubsampleTarget(const Contour& cur, int j, const Vec2& lastTarget, const Pose2& motion) {
+  const int m = static_cast<int>(cur.cols());
+  const Vec2 predicted = motion.Apply(lastTarget);
+  if (m < 3) return cur.col(j);
+  Vec2 best = cur.col(j);
+  double bestDistance = (predicted - best).squaredNorm();
+  const int reach = std::min(kSubsampleReach, (m - 1) / 2);
+  for (int i = -reach; i < reach; ++i) {
+    const Vec2 a = cur.col(WrapIndex(j + i, m));
+    const Vec2 b = cur.col(WrapIndex(j + i + 1, m));
+    const Vec2 ab = b - a;
+    const double len2 = ab.squaredNorm();
+    if (len2 <= 0.0) continue;
+    const double t = std::clamp((predicted - a).dot(ab) / len2, 0.0, 1.0);
+    const Vec2 q = a + t * ab;
+    const double d = (predicted - q).squaredNorm();
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = q;
+    }
+  }
+  return best;
 }
 
 void Count(ParticlePlan& plan) {
@@ -228,13 +292,21 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
     const auto f = m_feedback.find(track.ids[k]);
     return f != m_feedback.end() ? f->second.baseHeight : track.baseHeights[k];
   };
+
+  // the last target of previous point k's particle (its contour point when none was stored)
+  auto lastTarget = [&](int k) -> Vec2 {
+    return track.targets.cols() == n ? Vec2(track.targets.col(k)) : Vec2(prev.col(k));
+  };
   auto positionOf = [&](int k) -> Vec2 {
     const auto f = m_feedback.find(track.ids[k]);
-    return f != m_feedback.end() ? f->second.pos : Vec2(prev.col(k));
+    return f != m_feedback.end() ? f->second.pos : lastTarget(k);
   };
+  const Pose2 motion =
+      params.subsample && m > 0 ? RigidMotion(prev, cur, match.successor) : Pose2{};
 
   std::vector<ParticleId> ids(m, kNoId);
   std::vector<double> heights(m, 0.0);
+  Contour targets(2, m);
   for (int j = 0; j < m; ++j) {
     PlannedParticle p;
     p.contact = contact.id;
@@ -244,6 +316,9 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
       // reuse: the predecessor's particle now follows this point
       p.id = track.ids[pred[j]];
       p.action = ParticleAction::kReused;
+      if (params.subsample) {
+        p.target = SubsampleTarget(cur, j, lastTarget(pred[j]), motion);
+      }
       p.baseHeight = heightOf(pred[j]);
     } else {
       // create: where the nearest kept neighbour's particle sits, at its height
@@ -261,6 +336,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
     }
     ids[j] = p.id;
     heights[j] = p.baseHeight;
+    targets.col(j) = p.target;
     plan.particles.push_back(p);
   }
 
@@ -281,6 +357,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   track.contour = cur;
   track.ids = std::move(ids);
   track.baseHeights = std::move(heights);
+  track.targets = std::move(targets);
 }
 
 void ProxyStage::DeleteTrack(ContactId id, const Track& track, ParticlePlan& plan) {

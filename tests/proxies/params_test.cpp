@@ -23,7 +23,7 @@ TEST(ProxyParams, EveryFieldIsDescribedOnce) {
   EXPECT_EQ(keys,
             (std::set<std::string>{"mode", "algorithm", "window", "search_radius", "fallback_score",
                                    "placement", "penetration_limit", "instant_threshold",
-                                   "instant_spacing", "instant_flow_window"}));
+                                   "instant_spacing", "instant_flow_window", "subsample"}));
 }
 
 TEST(ProxyParams, SetByName) {

@@ -50,6 +50,7 @@ class ProxyStage {
     Contour contour;                  // last contour, cm
     std::vector<ParticleId> ids;      // particle of each contour point
     std::vector<double> baseHeights;  // last known base height of each point's particle, cm
+    Contour targets;                  // last target of each point's particle (subsample), cm
   };
 
   void Persistent(const ProxyParams& params, const ContactSet& contacts, const SceneQuery& scene,

@@ -30,6 +30,8 @@ struct ProxyParams {
   MatchAlgorithm algorithm = MatchAlgorithm::kFast;
   int window = 8;              ///< n, contour points summed around each match (even), points
   int searchRadius = 12;       ///< w, half-width of the windowed search, points
+  bool subsample = true;       ///< refine reused targets between contour samples (parabola
+                               ///< through the window scores of the successor's neighbours)
   double fallbackScore = 0.5;  ///< windowed search falls back to the full search where its
                                ///< best exceeds a lower bound on the exact score by more than
                                ///< this per window term, cm^2
