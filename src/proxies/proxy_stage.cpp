@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <string>
 #include <unordered_set>
@@ -44,35 +45,41 @@ int NearestKept(const std::vector<int>& pred, int j) {
   return -1;
 }
 
-// The contact's rigid motion from the previous contour to the current one: the least-squares
-// rotation (2D Procrustes) of the matched pairs (k, successor[k]) and the translation of the area
-// centroid about it. Sub-sample motion is invisible to each point's own match where the contour
-// runs along the motion (the aperture problem); the whole contour's motion is not.
-Pose2 RigidMotion(const Contour& prev, const Contour& cur, const std::vector<int>& successor) {
-  Vec2 meanPrev = Vec2::Zero(), meanCur = Vec2::Zero();
-  int count = 0;
-  for (size_t k = 0; k < successor.size(); ++k) {
-    if (successor[k] < 0) continue;
-    meanPrev += prev.col(static_cast<Eigen::Index>(k));
-    meanCur += cur.col(successor[k]);
-    ++count;
+// the principal axis of a contour's points, rad, and its elongation sqrt(l1 / l2) >= 1
+double PrincipalAxis(const Contour& c, const Vec2& centre, double* elongation) {
+  double xx = 0.0, yy = 0.0, xy = 0.0;
+  for (Eigen::Index i = 0; i < c.cols(); ++i) {
+    const Vec2 d = c.col(i) - centre;
+    xx += d.x() * d.x();
+    yy += d.y() * d.y();
+    xy += d.x() * d.y();
   }
-  if (count == 0) return Pose2{};
-  meanPrev /= count;
-  meanCur /= count;
-  double dot = 0.0, cross = 0.0;
-  for (size_t k = 0; k < successor.size(); ++k) {
-    if (successor[k] < 0) continue;
-    const Vec2 a = prev.col(static_cast<Eigen::Index>(k)) - meanPrev;
-    const Vec2 b = cur.col(successor[k]) - meanCur;
-    dot += a.dot(b);
-    cross += Cross(a, b);
-  }
-  const double angle = std::atan2(cross, dot);
-  // the translation comes from the area centroids: the pairs' own means inherit the lag of the
-  // points whose matches cannot see motion along the contour
+  const double mean = 0.5 * (xx + yy);
+  const double spread = std::sqrt(0.25 * (xx - yy) * (xx - yy) + xy * xy);
+  *elongation = mean - spread > 0.0 ? std::sqrt((mean + spread) / (mean - spread))
+                                    : std::numeric_limits<double>::infinity();
+  return 0.5 * std::atan2(2.0 * xy, xx - yy);
+}
+
+// below this elongation a contact's turning is not observable from its outline (a round
+// fingertip looks the same at every angle, and the sensor's sampling jitter would pass for it)
+constexpr double kMinElongationForTurning = 1.3;
+
+// The contact's rigid motion from the previous contour to the current one: the translation of its
+// area centroid, and for elongated contacts the turning of its principal axis. Sub-sample motion
+// is invisible to each point's own match where the contour runs along the motion (the aperture
+// problem); the whole contour's motion is not.
+Pose2 RigidMotion(const Contour& prev, const Contour& cur) {
   const Vec2 centroidPrev = PolygonCentroid(prev);
   const Vec2 centroidCur = PolygonCentroid(cur);
+  double elongationPrev = 1.0, elongationCur = 1.0;
+  const double axisPrev = PrincipalAxis(prev, centroidPrev, &elongationPrev);
+  const double axisCur = PrincipalAxis(cur, centroidCur, &elongationCur);
+  double angle = 0.0;
+  if (std::min(elongationPrev, elongationCur) >= kMinElongationForTurning) {
+    // an axis has no direction: the turn is taken modulo half a turn
+    angle = WrapAngle(2.0 * (axisCur - axisPrev)) / 2.0;
+  }
   return Pose2{centroidCur - Rotate(centroidPrev, angle), angle};
 }
 
@@ -301,8 +308,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
     const auto f = m_feedback.find(track.ids[k]);
     return f != m_feedback.end() ? f->second.pos : lastTarget(k);
   };
-  const Pose2 motion =
-      params.subsample && m > 0 ? RigidMotion(prev, cur, match.successor) : Pose2{};
+  const Pose2 motion = params.subsample && m > 0 ? RigidMotion(prev, cur) : Pose2{};
 
   std::vector<ParticleId> ids(m, kNoId);
   std::vector<double> heights(m, 0.0);

@@ -245,6 +245,41 @@ TEST(TopFriction, ParticleOnTopDragsObjectAtKineticForceThenMatchesIt) {
   EXPECT_NEAR(forces.topNormal, p.particleDownForce, 1e-9);
 }
 
+TEST(TopFriction, DragsAgainstTableFrictionOnlyWhenItsFrictionWins) {
+  // n particles on top moving at u: once the box slides with them, top friction is static and the
+  // table's kinetic friction mu_k (M g + n Fd) is paid; before that, the box starts only when the
+  // particles' kinetic friction 0.75 mu n Fd beats the table's static mu_s (M g + n Fd)
+  auto drag = [](double mass) {
+    PhysicsParams p;
+    ObjectSpec box = Box("drag", 20, 23, 16.0);  // long enough that the particles stay on top
+    box.mass = mass;
+    box.tableStatic = 0.3;
+    box.tableKinetic = 0.25;
+    LayeredWorld w;
+    MustBuild(w, p, {box});
+    std::vector<PlannedParticle> seed;
+    for (int i = 0; i < 10; ++i)
+      seed.push_back(Create(i + 1, Vec2(19.5 + 0.1 * i, 23), Vec2(19.5 + 0.1 * i, 23), 2.0));
+    w.ApplyPlan(Plan(seed));
+    const double u = 6.0;
+    for (int f = 1; f <= 60; ++f) {
+      std::vector<PlannedParticle> moved;
+      for (int i = 0; i < 10; ++i)
+        moved.push_back(Reuse(i + 1, Vec2(19.5 + 0.1 * i + u * f / 60.0, 23)));
+      w.ApplyPlan(Plan(moved));
+      w.StepFrame();
+    }
+    return w.Object(0).pose.pos.x() - 20.0;
+  };
+  // 10 particles, Fd = 2000 dyn, mu = 0.8: kinetic top friction 0.6 * 20000 = 12000 dyn.
+  // 10 g: static table friction 0.3 * (9810 + 20000) = 8943 dyn < 12000, so the box follows
+  // the particles' 6 cm in 1 s less its start-up lag (0.3 cm allows ~3 frames of it)
+  EXPECT_NEAR(drag(10.0), 6.0, 0.3);
+  // 30 g: 0.3 * (29430 + 20000) = 14829 dyn > 12000, so the particles slide over a box at rest
+  // (the tolerance is float rounding of a box that never moves)
+  EXPECT_NEAR(drag(30.0), 0.0, 1e-4);
+}
+
 TEST(TopFriction, RestingParticlesAddTheirDownForceToTableNormal) {
   PhysicsParams p;
   ObjectSpec box = Box("loaded", 20, 23);
