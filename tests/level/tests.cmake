@@ -1,4 +1,6 @@
 proxygrasp_test(level params)
+proxygrasp_test(level simulation)
+proxygrasp_test(level runner)
 proxygrasp_test(level describe)
 proxygrasp_test(level level)
 proxygrasp_test(level script)

@@ -1,0 +1,74 @@
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "run_command.h"
+
+namespace pg {
+namespace {
+
+using ::testing::HasSubstr;
+using test::RunProxygrasp;
+
+std::string Level(const std::string& name) {
+  return std::string(PROXYGRASP_SOURCE_DIR) + "/levels/" + name;
+}
+
+std::string WriteTemp(const std::string& name, const std::string& text) {
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(RunCommand, PassingLevelExitsZeroWithAReport) {
+  const auto r = RunProxygrasp("run " + Level("side_push.toml") + " --profile");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("PASS"));
+  EXPECT_THAT(r.output, HasSubstr("=> PASS"));
+  EXPECT_THAT(r.output, HasSubstr("median ms"));
+}
+
+TEST(RunCommand, FailingExpectationExitsOne) {
+  // 20 frames (a third of a second) end before the finger reaches the box: nothing has moved
+  const auto r = RunProxygrasp("run " + Level("side_push.toml") + " --frames 20");
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("FAIL"));
+}
+
+TEST(RunCommand, BadLevelExitsTwoWithLocation) {
+  const std::string path = WriteTemp("pg_bad_level.toml", "[physics]\nsubstep = 4\n");
+  const auto r = RunProxygrasp("run " + path);
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_THAT(r.output, HasSubstr(path + ":2:1:"));
+  EXPECT_THAT(r.output, HasSubstr("did you mean 'substeps'"));
+}
+
+TEST(RunCommand, BadSetExitsTwo) {
+  const auto r = RunProxygrasp("run " + Level("side_push.toml") + " --set physics.layers=99");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_THAT(r.output, HasSubstr("physics.layers"));
+  EXPECT_THAT(r.output, HasSubstr("[1, 16]"));
+  const auto noEq = RunProxygrasp("run " + Level("side_push.toml") + " --set physics.layers");
+  EXPECT_EQ(noEq.exitCode, 2);
+  EXPECT_THAT(noEq.output, HasSubstr("section.key=value"));
+}
+
+TEST(RunCommand, MissingFileAndBadModeExitTwo) {
+  EXPECT_EQ(RunProxygrasp("run /nonexistent/level.toml").exitCode, 2);
+  EXPECT_EQ(RunProxygrasp("run " + Level("side_push.toml") + " --mode sideways").exitCode, 2);
+}
+
+TEST(RunCommand, TraceFolderHoldsBothFiles) {
+  const std::string dir = (std::filesystem::temp_directory_path() / "pg_cmd_run_trace").string();
+  std::filesystem::remove_all(dir);
+  const auto r = RunProxygrasp("run " + Level("side_push.toml") + " --frames 10 --trace " + dir);
+  EXPECT_EQ(r.exitCode, 1) << r.output;  // 10 frames are too few for the push: expectations fail
+  EXPECT_TRUE(std::filesystem::exists(dir + "/objects.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/frames.csv"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pg
