@@ -170,11 +170,12 @@ TEST(Runner, WritesBothTraceFiles) {
   const Result<LevelResult> result = RunLevel(level, options);
   ASSERT_TRUE(result.ok());
   std::ifstream objects(options.traceDir + "/objects.csv");
-  std::stringstream text;
-  text << objects.rdbuf();
-  EXPECT_EQ(text.str(), result.value().runs[0].objectsCsv);
+  std::stringstream buffer;
+  buffer << objects.rdbuf();
+  const std::string text = buffer.str();
+  EXPECT_EQ(text, result.value().runs[0].objectsCsv);
   // header plus one row per object per frame
-  EXPECT_EQ(std::count(text.str().begin(), text.str().end(), '\n'), 6);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 6);
   EXPECT_TRUE(std::filesystem::exists(options.traceDir + "/frames.csv"));
   std::filesystem::remove_all(options.traceDir);
 }
