@@ -68,10 +68,11 @@ class SyntheticCamera {
   TableParams m_table;
   CameraModel m_model;
   Rng m_rng;
-  cv::Mat m_tableX, m_tableY;  // CV_32F: the table point each pixel sees, cm
-  cv::Mat m_cmPerPixel;        // CV_32F: local pixel size, cm
-  cv::Mat m_gain;              // CV_32F: vignetting gain, 0..1
-  cv::Mat m_background;        // CV_32F: background level before vignetting, grey
+  cv::Mat m_tableX, m_tableY;      // CV_32F: the table point each pixel sees, cm
+  cv::Mat m_cmPerPixel;            // CV_32F: local pixel size, cm
+  cv::Mat m_gain;                  // CV_32F: vignetting gain, 0..1
+  cv::Mat m_background;            // CV_32F: background level before vignetting, grey
+  std::vector<float> m_noiseBank;  // standard normal samples, drawn once from the seed
 };
 
 /// The camera model a SyntheticCamera with these params uses.
