@@ -58,6 +58,7 @@ class SyntheticCamera {
 
   /// The true camera model: intrinsics, distortion and the camera -> table homography.
   const CameraModel& model() const { return m_model; }
+  /// The parameters the camera was made with.
   const SyntheticCameraParams& params() const { return m_params; }
 
  private:
