@@ -511,13 +511,20 @@ cv::Mat SyntheticCamera::RenderTableImage(const cv::Mat& tableImage) {
   const int w = m_params.width, h = m_params.height;
   cv::Mat contact = cv::Mat::zeros(h, w, CV_32F);
   if (!tableImage.empty()) {
+    // any depth and 1, 3 or 4 channels: grey reflectance in 0..1
     cv::Mat grey;
     if (tableImage.channels() == 3)
       cv::cvtColor(tableImage, grey, cv::COLOR_BGR2GRAY);
+    else if (tableImage.channels() == 4)
+      cv::cvtColor(tableImage, grey, cv::COLOR_BGRA2GRAY);
     else
-      grey = tableImage;
+      grey = tableImage.channels() == 1 ? tableImage : cv::Mat::zeros(tableImage.size(), CV_8UC1);
+    const double full = grey.depth() == CV_8U                              ? 255.0
+                        : grey.depth() == CV_16U                           ? 65535.0
+                        : grey.depth() == CV_32F || grey.depth() == CV_64F ? 1.0
+                                                                           : 255.0;
     cv::Mat reflectance;
-    grey.convertTo(reflectance, CV_32F, 1.0 / 255.0);
+    grey.convertTo(reflectance, CV_32F, 1.0 / full);
     // each camera pixel samples the table image where it looks
     cv::Mat mapX(h, w, CV_32F), mapY(h, w, CV_32F);
     const double sx = reflectance.cols / m_table.width;

@@ -3,6 +3,7 @@
 #include "proxygrasp/core/units.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 
@@ -188,6 +189,14 @@ TEST(SyntheticCamera, RenderTableImageUsesTheSameModel) {
   const Vec2 outside = camera.model().TableToCamera(Vec2(47, 12));
   EXPECT_GT(frame.at<uint8_t>(std::lround(inside.y()), std::lround(inside.x())), 200);
   EXPECT_LT(frame.at<uint8_t>(std::lround(outside.y()), std::lround(outside.x())), 60);
+  // colour, 4-channel and float images of the same picture render the same
+  cv::Mat bgr, bgra, floats;
+  cv::cvtColor(tableImage, bgr, cv::COLOR_GRAY2BGR);
+  cv::cvtColor(tableImage, bgra, cv::COLOR_GRAY2BGRA);
+  tableImage.convertTo(floats, CV_32F, 1.0 / 255.0);
+  EXPECT_EQ(cv::norm(camera.RenderTableImage(bgr), frame, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(camera.RenderTableImage(bgra), frame, cv::NORM_INF), 0.0);
+  EXPECT_LE(cv::norm(camera.RenderTableImage(floats), frame, cv::NORM_INF), 1.0);
   // an empty table image is the clear table
   EXPECT_LE(cv::norm(camera.RenderTableImage(cv::Mat(460, 610, CV_8UC1, cv::Scalar(0))),
                      camera.Background(), cv::NORM_INF),

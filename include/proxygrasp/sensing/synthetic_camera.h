@@ -48,9 +48,10 @@ class SyntheticCamera {
   std::vector<Contour> TrueOutlines(std::span<const ContactShape> shapes) const;
 
   /// Renders an arbitrary table-space image through the same camera model (perspective,
-  /// distortion, vignetting, background, noise). tableImage (CV_8UC1) covers the whole table: its
-  /// top-left corner is table point (0, height) and its bottom-right (width, 0). Its grey levels
-  /// are reflectances: 0 shows the background, 255 full contact level.
+  /// distortion, vignetting, background, noise). tableImage covers the whole table: its top-left
+  /// corner is table point (0, height) and its bottom-right (width, 0). Its grey levels are
+  /// reflectances: 0 shows the background, full scale (255 for 8 bits, 1 for float) full contact
+  /// level. Grey, BGR or BGRA; 8-bit, 16-bit or float.
   cv::Mat RenderTableImage(const cv::Mat& tableImage);
 
   /// The clear-table image without noise (what averaging many empty frames gives), CV_8UC1.
