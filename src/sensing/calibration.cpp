@@ -222,6 +222,11 @@ Result<Calibration> LoadCalibration(const std::string& path) {
     return MakeError({path}, "calibration file is a directory");
   std::ifstream probe(path);
   if (!probe) return MakeError({path}, "cannot read calibration file");
+  // OpenCV's YAML reader needs its header line; say so rather than "input file is invalid"
+  std::string firstLine;
+  if (!std::getline(probe, firstLine)) return MakeError({path}, "calibration file is empty");
+  if (firstLine.rfind("%YAML", 0) != 0)
+    return MakeError({path}, "not an OpenCV YAML file: the first line must be %YAML:1.0");
 
   cv::FileStorage fs;
   try {

@@ -4,6 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <opencv2/videoio/registry.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -54,6 +55,12 @@ class QuietOpenCv {
   cv::utils::logging::LogLevel m_old;
 };
 
+#ifdef __linux__
+constexpr int kCameraApi = cv::CAP_V4L2;
+#else
+constexpr int kCameraApi = cv::CAP_ANY;
+#endif
+
 class CameraSource : public FrameSource {
  public:
   CameraSource(int index, std::string path) : m_index(index), m_path(std::move(path)) {}
@@ -62,7 +69,9 @@ class CameraSource : public FrameSource {
     QuietOpenCv quiet;
     try {
       m_capture.release();
-      const bool ok = m_path.empty() ? m_capture.open(m_index, cv::CAP_ANY)
+      // V4L2 directly on Linux: probing every backend (FireWire, gphoto2 over libusb, ...) is slow
+      // and those libraries leak on the way
+      const bool ok = m_path.empty() ? m_capture.open(m_index, kCameraApi)
                                      : m_capture.open(m_path, cv::CAP_V4L2);
       if (!ok || !m_capture.isOpened())
         return MakeError({Describe()}, "cannot open the camera (is it connected, and free?)");
@@ -113,7 +122,10 @@ class VideoSource : public FrameSource {
   Status Open() {
     QuietOpenCv quiet;
     try {
-      if (!m_capture.open(m_path, cv::CAP_ANY) || !m_capture.isOpened())
+      // FFmpeg reads every common container; other backends only when it is missing
+      const int api =
+          cv::videoio_registry::hasBackend(cv::CAP_FFMPEG) ? cv::CAP_FFMPEG : cv::CAP_ANY;
+      if (!m_capture.open(m_path, api) || !m_capture.isOpened())
         return MakeError({m_path}, "cannot open as a video (unknown format or codec)");
     } catch (const cv::Exception& e) {
       return MakeError({m_path}, std::string("cannot open as a video: ") + e.what());

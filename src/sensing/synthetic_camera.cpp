@@ -66,9 +66,20 @@ struct HandModel {
   Vec2 palmHalf{4.0, 5.0};
   double palmCorner = 1.8;
   std::vector<Finger> fingers;  // thumb first
+  std::vector<Vec2> tips;       // fingertip cap centres, from the fingers
   double blend = 0.5;  // radius of the fillets where fingers meet the palm and each other, cm
   bool cupped = false;
 };
+
+Vec2 FingerTip(const Finger& f) {
+  const double a = DegToRad(f.angle);
+  return f.base + f.length * Vec2(-std::sin(a), std::cos(a));
+}
+
+HandModel WithTips(HandModel h) {
+  for (const Finger& f : h.fingers) h.tips.push_back(FingerTip(f));
+  return h;
+}
 
 const HandModel& HandFor(ShapeKind kind) {
   static const HandModel kFive = [] {
@@ -79,7 +90,7 @@ const HandModel& HandFor(ShapeKind kind) {
                  {{1.15, 4.0}, -9, 8.1, 0.85},
                  {{3.15, 3.3}, -24, 6.4, 0.75}};
     h.blend = 0.45;
-    return h;
+    return WithTips(h);
   }();
   static const HandModel kFlat = [] {
     HandModel h;
@@ -91,7 +102,7 @@ const HandModel& HandFor(ShapeKind kind) {
                  {{0.87, 4.1}, 0, 8.0, 0.95},
                  {{2.6, 3.6}, 0, 6.4, 0.85}};
     h.blend = 0.6;
-    return h;
+    return WithTips(h);
   }();
   static const HandModel kCupped = [] {
     HandModel h;
@@ -108,11 +119,6 @@ const HandModel& HandFor(ShapeKind kind) {
   }
 }
 
-Vec2 FingerTip(const Finger& f) {
-  const double a = DegToRad(f.angle);
-  return f.base + f.length * Vec2(-std::sin(a), std::cos(a));
-}
-
 // the cupped hand's edge: a C-shaped band 1.5 cm thick on an arc of radius 5.4 cm spanning 200
 // degrees, opening towards +x; its centreline is about 19 cm long
 constexpr double kCupRadius = 5.4;
@@ -123,7 +129,7 @@ double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
   if (h.cupped) return ArcDistance(p, kCupRadius, kPi, DegToRad(kCupHalfSpan), kCupHalfThickness);
   double d = RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
   for (const Finger& f : h.fingers)
-    d = RoundUnion(d, CapsuleDistance(p, f.base, FingerTip(f), f.radius), h.blend);
+    d = RoundUnion(d, CapsuleDistance(p, f.base, h.tips[&f - h.fingers.data()], f.radius), h.blend);
   return d;
 }
 
@@ -360,6 +366,12 @@ SyntheticCamera::SyntheticCamera(const SyntheticCameraParams& params, const Tabl
           params.background + params.gradient * (u / std::max(w - 1.0, 1.0) - 0.5));
     }
   }
+  // a bank of standard normal samples; frames draw their noise rows from random places in it
+  if (params.noise > 0.0) {
+    constexpr size_t kBankSize = size_t{1} << 18;
+    m_noiseBank.resize(std::max(kBankSize, static_cast<size_t>(4 * w)));
+    for (float& n : m_noiseBank) n = static_cast<float>(m_rng.Normal());
+  }
   // local pixel size from the map's finite differences
   m_cmPerPixel.create(h, w, CV_32F);
   for (int v = 0; v < h; ++v) {
@@ -388,11 +400,14 @@ cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo) {
     const float* g = m_gain.ptr<float>(v);
     const float* b = m_background.ptr<float>(v);
     uint8_t* o = out.ptr<uint8_t>(v);
+    // each row takes its noise from a random place in the bank
+    const float* bankRow =
+        noise > 0.0 ? m_noiseBank.data() + m_rng.NextU64() % (m_noiseBank.size() - w) : nullptr;
     for (int u = 0; u < w; ++u) {
       // illumination: background, contact and halo, all dimmed by vignetting, then sensor noise
       const float level = b[u] + (contactLevel - b[u]) * c[u] + haloLevel * hl[u] * (1.0f - c[u]);
       double value = g[u] * level;
-      if (noise > 0.0) value += noise * m_rng.Normal();
+      if (noise > 0.0) value += noise * bankRow[u];
       o[u] = cv::saturate_cast<uint8_t>(value);
     }
   }
@@ -432,23 +447,53 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
     const int vBegin = std::max(0, static_cast<int>(std::floor(v0)) - 3);
     const int vEnd = std::min(h - 1, static_cast<int>(std::ceil(v1)) + 3);
 
-    // area coverage from the signed distance in pixels (a one-pixel linear ramp), and the halo
-    for (int v = vBegin; v <= vEnd; ++v) {
-      const float* tx = m_tableX.ptr<float>(v);
-      const float* ty = m_tableY.ptr<float>(v);
-      const float* cmpp = m_cmPerPixel.ptr<float>(v);
-      float* c = contact.ptr<float>(v);
-      float* hl = halo.ptr<float>(v);
-      for (int u = uBegin; u <= uEnd; ++u) {
-        const Vec2 local = s.pose.Inverse(Vec2(tx[u], ty[u]));
-        const double d = LocalDistance(s, &polygon, local);
-        const double coverage =
-            std::clamp(0.5 - d / cmpp[u], 0.0, 1.0) * std::clamp(s.pressure, 0.0, 1.0);
-        c[u] = std::max(c[u], static_cast<float>(coverage));
-        if (hand && haloWidth > 0.0) {
-          const double glow = d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d / haloWidth);
-          hl[u] = std::max(hl[u], static_cast<float>(glow));
+    // area coverage from the signed distance in pixels (a one-pixel linear ramp), and the halo;
+    // 8x8 blocks whose centre is far outside (beyond the halo) or deep inside are done at once
+    const double pressure = std::clamp(s.pressure, 0.0, 1.0);
+    const double haloReach = hand && haloWidth > 0.0 ? haloWidth : 0.0;
+    // the pose's inverse with its rotation computed once
+    const double cosA = std::cos(s.pose.angle), sinA = std::sin(s.pose.angle);
+    auto distanceAt = [&](int v, int u) {
+      const double x = m_tableX.at<float>(v, u) - s.pose.pos.x();
+      const double y = m_tableY.at<float>(v, u) - s.pose.pos.y();
+      return LocalDistance(s, &polygon, Vec2(cosA * x + sinA * y, -sinA * x + cosA * y));
+    };
+    auto shade = [&](int v, int u) {
+      const double d = distanceAt(v, u);
+      const double coverage =
+          std::clamp(0.5 - d / m_cmPerPixel.at<float>(v, u), 0.0, 1.0) * pressure;
+      float& c = contact.at<float>(v, u);
+      c = std::max(c, static_cast<float>(coverage));
+      if (haloReach > 0.0) {
+        const double glow = d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d / haloReach);
+        float& hl = halo.at<float>(v, u);
+        hl = std::max(hl, static_cast<float>(glow));
+      }
+    };
+    constexpr int kBlock = 8;  // px
+    for (int bv = vBegin; bv <= vEnd; bv += kBlock) {
+      const int bvEnd = std::min(bv + kBlock - 1, vEnd);
+      for (int bu = uBegin; bu <= uEnd; bu += kBlock) {
+        const int buEnd = std::min(bu + kBlock - 1, uEnd);
+        const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
+        const double cmpp = m_cmPerPixel.at<float>(cv, cu);
+        const double dc = distanceAt(cv, cu);
+        // within a block the distance changes by at most L * 5.7 px; 12 px allows L up to 2.1
+        // (round unions have L <= sqrt(2)) and the local scale changing across the block
+        const double reach = 1.5 * kBlock * cmpp;
+        if (dc > reach + haloReach + cmpp) continue;
+        if (dc < -reach - cmpp) {
+          for (int v = bv; v <= bvEnd; ++v) {
+            for (int u = bu; u <= buEnd; ++u) {
+              float& c = contact.at<float>(v, u);
+              c = std::max(c, static_cast<float>(pressure));
+              if (haloReach > 0.0) halo.at<float>(v, u) = 1.0f;
+            }
+          }
+          continue;
         }
+        for (int v = bv; v <= bvEnd; ++v)
+          for (int u = bu; u <= buEnd; ++u) shade(v, u);
       }
     }
   }
@@ -466,13 +511,20 @@ cv::Mat SyntheticCamera::RenderTableImage(const cv::Mat& tableImage) {
   const int w = m_params.width, h = m_params.height;
   cv::Mat contact = cv::Mat::zeros(h, w, CV_32F);
   if (!tableImage.empty()) {
+    // any depth and 1, 3 or 4 channels: grey reflectance in 0..1
     cv::Mat grey;
     if (tableImage.channels() == 3)
       cv::cvtColor(tableImage, grey, cv::COLOR_BGR2GRAY);
+    else if (tableImage.channels() == 4)
+      cv::cvtColor(tableImage, grey, cv::COLOR_BGRA2GRAY);
     else
-      grey = tableImage;
+      grey = tableImage.channels() == 1 ? tableImage : cv::Mat::zeros(tableImage.size(), CV_8UC1);
+    const double full = grey.depth() == CV_8U                              ? 255.0
+                        : grey.depth() == CV_16U                           ? 65535.0
+                        : grey.depth() == CV_32F || grey.depth() == CV_64F ? 1.0
+                                                                           : 255.0;
     cv::Mat reflectance;
-    grey.convertTo(reflectance, CV_32F, 1.0 / 255.0);
+    grey.convertTo(reflectance, CV_32F, 1.0 / full);
     // each camera pixel samples the table image where it looks
     cv::Mat mapX(h, w, CV_32F), mapY(h, w, CV_32F);
     const double sx = reflectance.cols / m_table.width;

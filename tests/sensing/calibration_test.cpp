@@ -102,6 +102,18 @@ TEST(Calibration, MalformedYamlNamesTheFile) {
   EXPECT_THAT(r.error().Format(), HasSubstr(path + ": not a valid OpenCV YAML file"));
 }
 
+TEST(Calibration, EmptyOrHeaderlessFileSaysWhatIsWrong) {
+  const std::string empty = WriteFile("empty.yaml", "");
+  Result<Calibration> r = LoadCalibration(empty);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().Format(), empty + ": calibration file is empty");
+  const std::string headerless = WriteFile("headerless.yaml", "image_width: 640\n");
+  r = LoadCalibration(headerless);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().Format(),
+            headerless + ": not an OpenCV YAML file: the first line must be %YAML:1.0");
+}
+
 TEST(Calibration, MissingFieldIsNamed) {
   const std::string path = WriteFile("nofield.yaml",
                                      "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"

@@ -51,9 +51,11 @@ ContactShape Make(ShapeKind kind, Vec2 pos, double angleDeg) {
 
 std::vector<AccuracyCase> AccuracyCases() {
   std::vector<AccuracyCase> cases;
-  ContactShape circle = Make(ShapeKind::kCircle, {12.0, 35.0}, 0);
+  ContactShape circle = Make(ShapeKind::kCircle, {3.0, 43.0}, 0);
   circle.radius = 0.8;
   cases.push_back({"circle_corner", circle});
+  circle.pose.pos = {12.0, 35.0};
+  cases.push_back({"circle_off_centre", circle});
   circle.pose.pos = {30.5, 23.0};
   circle.radius = 1.1;
   cases.push_back({"circle_centre", circle});

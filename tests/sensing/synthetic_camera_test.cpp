@@ -3,6 +3,7 @@
 #include "proxygrasp/core/units.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 
@@ -188,10 +189,53 @@ TEST(SyntheticCamera, RenderTableImageUsesTheSameModel) {
   const Vec2 outside = camera.model().TableToCamera(Vec2(47, 12));
   EXPECT_GT(frame.at<uint8_t>(std::lround(inside.y()), std::lround(inside.x())), 200);
   EXPECT_LT(frame.at<uint8_t>(std::lround(outside.y()), std::lround(outside.x())), 60);
+  // colour, 4-channel and float images of the same picture render the same
+  cv::Mat bgr, bgra, floats;
+  cv::cvtColor(tableImage, bgr, cv::COLOR_GRAY2BGR);
+  cv::cvtColor(tableImage, bgra, cv::COLOR_GRAY2BGRA);
+  tableImage.convertTo(floats, CV_32F, 1.0 / 255.0);
+  EXPECT_EQ(cv::norm(camera.RenderTableImage(bgr), frame, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(camera.RenderTableImage(bgra), frame, cv::NORM_INF), 0.0);
+  EXPECT_LE(cv::norm(camera.RenderTableImage(floats), frame, cv::NORM_INF), 1.0);
   // an empty table image is the clear table
   EXPECT_LE(cv::norm(camera.RenderTableImage(cv::Mat(460, 610, CV_8UC1, cv::Scalar(0))),
                      camera.Background(), cv::NORM_INF),
             1.0);
+}
+
+TEST(SyntheticCamera, EveryPixelFollowsTheImageModel) {
+  // the renderer skips blocks far from a shape; a pixel-by-pixel evaluation of the documented
+  // model must give the same image: B + (contact - B) c + halo h (1 - c), with the coverage
+  // c = clamp(0.5 - d / s) and the halo h = 1 - smoothstep(d / halo_width) outside hands
+  SyntheticCameraParams p;
+  p.noise = 0.0;
+  p.vignetting = 0.0;
+  p.gradient = 0.0;
+  p.perspective = 0.05;
+  SyntheticCamera camera(p, TableParams{});
+  const ContactShape shapes[] = {Shape(ShapeKind::kHandFive, {20, 20}, 0.3),
+                                 Shape(ShapeKind::kCircle, {45, 30}),
+                                 Shape(ShapeKind::kHandCupped, {45, 12}, 1.0)};
+  const cv::Mat frame = camera.Render(shapes);
+  int worst = 0;
+  for (int v = 0; v < frame.rows; ++v) {
+    for (int u = 0; u < frame.cols; ++u) {
+      const Vec2 t = camera.model().CameraToTable(Vec2(u, v));
+      const double s = camera.model().CmPerPixel(Vec2(u, v));
+      double c = 0.0, h = 0.0;
+      for (const ContactShape& shape : shapes) {
+        const double d = ShapeDistance(shape, t);
+        c = std::max(c, std::clamp(0.5 - d / s, 0.0, 1.0));
+        if (shape.kind != ShapeKind::kCircle)
+          h = std::max(h, d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d / p.haloWidth));
+      }
+      const double expected =
+          p.background + (p.contactLevel - p.background) * c + p.haloLevel * h * (1.0 - c);
+      worst = std::max(worst, static_cast<int>(std::abs(frame.at<uint8_t>(v, u) - expected) + 0.5));
+    }
+  }
+  // rounding to 8 bits, and the local pixel size differing slightly between finite differences
+  EXPECT_LE(worst, 2);
 }
 
 TEST(SyntheticCamera, PressureDimsAContact) {

@@ -63,11 +63,13 @@ class SyntheticSource : public FrameSource {
   /// `frameCount` < 0 runs until the script returns false.
   SyntheticSource(std::string name, const SyntheticCameraParams& camera, const TableParams& table,
                   ShapeScript script, int64_t frameCount, double frameRate = 60.0);
+  /// Renders the script's next frame; kEnd when the script or the frame count ends.
   FrameStatus Read(cv::Mat& frame) override;
   std::string Describe() const override { return m_name; }
   double FrameRate() const override { return m_frameRate; }
   /// The shapes of the last frame read (truth for tests and overlays).
   const std::vector<ContactShape>& shapes() const { return m_shapes; }
+  /// The camera that renders the frames (its model() is the true calibration).
   SyntheticCamera& camera() { return m_camera; }
 
  private:

@@ -40,9 +40,13 @@ class Sensor {
 
   /// The threshold used on the last frame, 8-bit grey above background.
   double LastThreshold() const { return m_lastThreshold; }
+  /// The camera model in use (from the calibration).
   const CameraModel& model() const { return m_model; }
+  /// The calibration in use.
   const Calibration& calibration() const { return m_calibration; }
+  /// The parameters of the last successful Configure.
   const SensingParams& params() const { return m_params; }
+  /// True after a successful Configure.
   bool configured() const { return m_configured; }
 
  private:

@@ -48,9 +48,10 @@ class SyntheticCamera {
   std::vector<Contour> TrueOutlines(std::span<const ContactShape> shapes) const;
 
   /// Renders an arbitrary table-space image through the same camera model (perspective,
-  /// distortion, vignetting, background, noise). tableImage (CV_8UC1) covers the whole table: its
-  /// top-left corner is table point (0, height) and its bottom-right (width, 0). Its grey levels
-  /// are reflectances: 0 shows the background, 255 full contact level.
+  /// distortion, vignetting, background, noise). tableImage covers the whole table: its top-left
+  /// corner is table point (0, height) and its bottom-right (width, 0). Its grey levels are
+  /// reflectances: 0 shows the background, full scale (255 for 8 bits, 1 for float) full contact
+  /// level. Grey, BGR or BGRA; 8-bit, 16-bit or float.
   cv::Mat RenderTableImage(const cv::Mat& tableImage);
 
   /// The clear-table image without noise (what averaging many empty frames gives), CV_8UC1.
@@ -58,6 +59,7 @@ class SyntheticCamera {
 
   /// The true camera model: intrinsics, distortion and the camera -> table homography.
   const CameraModel& model() const { return m_model; }
+  /// The parameters the camera was made with.
   const SyntheticCameraParams& params() const { return m_params; }
 
  private:
@@ -68,10 +70,11 @@ class SyntheticCamera {
   TableParams m_table;
   CameraModel m_model;
   Rng m_rng;
-  cv::Mat m_tableX, m_tableY;  // CV_32F: the table point each pixel sees, cm
-  cv::Mat m_cmPerPixel;        // CV_32F: local pixel size, cm
-  cv::Mat m_gain;              // CV_32F: vignetting gain, 0..1
-  cv::Mat m_background;        // CV_32F: background level before vignetting, grey
+  cv::Mat m_tableX, m_tableY;      // CV_32F: the table point each pixel sees, cm
+  cv::Mat m_cmPerPixel;            // CV_32F: local pixel size, cm
+  cv::Mat m_gain;                  // CV_32F: vignetting gain, 0..1
+  cv::Mat m_background;            // CV_32F: background level before vignetting, grey
+  std::vector<float> m_noiseBank;  // standard normal samples, drawn once from the seed
 };
 
 /// The camera model a SyntheticCamera with these params uses.
