@@ -3,14 +3,17 @@
 // the tracked contacts in table cm.
 #include "commands.h"
 
+#include "proxygrasp/level/level.h"
 #include "proxygrasp/level/params.h"
 #include "proxygrasp/sensing/frame_source.h"
 #include "proxygrasp/sensing/sensor.h"
 #include "proxygrasp/tracking/tracker.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -24,15 +27,24 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// The input of `sense`. This is the seam for level files: a *.toml input will be opened as the
-// level's script rendered through the synthetic camera (a FrameSource the level module provides);
-// every other spec goes to OpenFrameSource.
-Result<std::unique_ptr<FrameSource>> OpenSenseInput(const std::string& spec) {
-  if (EndsWith(spec, ".toml"))
-    return MakeError({spec},
-                     "level scripts as input need the level module's script source, which is not "
-                     "built yet; use camera:N, a video, a folder or synthetic:fingers|hands");
-  return OpenFrameSource(spec);
+// The input of `sense`: a level file (*.toml) is its script rendered through the synthetic camera
+// for the script's duration, with the level's parameters (params receives them); every other spec
+// goes to OpenFrameSource.
+Result<std::unique_ptr<FrameSource>> OpenSenseInput(const std::string& spec, LevelParams& params) {
+  if (!EndsWith(spec, ".toml")) return OpenFrameSource(spec);
+  Result<Level> loaded = LoadLevel(spec);
+  if (!loaded.ok()) return loaded.error();
+  auto level = std::make_shared<const Level>(std::move(loaded.value()));
+  params = level->params;
+  const double fps = params.physics.frameRate;
+  const auto frames = static_cast<int64_t>(std::ceil(level->script.duration * fps - 1e-9));
+  ShapeScript script = [level, fps](int64_t frame, std::vector<ContactShape>& shapes) {
+    shapes = ShapesAt(level->script, static_cast<double>(frame) / fps);
+    return true;
+  };
+  std::unique_ptr<FrameSource> source = std::make_unique<SyntheticSource>(
+      spec, params.camera, params.table, std::move(script), frames, fps);
+  return source;
 }
 
 void AppendNumber(std::string& out, double v) {
@@ -78,8 +90,13 @@ struct SenseOptions {
 
 int RunSense(const SenseOptions& o) {
   const char* const me = "proxygrasp sense: ";
-  // parameters: defaults, then --set, then --calibration
+  // parameters: defaults or the level's, then --set, then --calibration
   LevelParams params;
+  Result<std::unique_ptr<FrameSource>> opened = OpenSenseInput(o.input, params);
+  if (!opened) {
+    std::cerr << me << opened.error().Format() << "\n";
+    return kExitBadInput;
+  }
   for (const std::string& s : o.sets) {
     if (Status st = SetParam(params, s.substr(0, s.find('=')),
                              s.find('=') == std::string::npos ? "" : s.substr(s.find('=') + 1))) {
@@ -88,12 +105,6 @@ int RunSense(const SenseOptions& o) {
     }
   }
   if (!o.calibration.empty()) params.sensing.calibration = o.calibration;
-
-  Result<std::unique_ptr<FrameSource>> opened = OpenSenseInput(o.input);
-  if (!opened) {
-    std::cerr << me << opened.error().Format() << "\n";
-    return kExitBadInput;
-  }
   FrameSource& source = *opened.value();
   const double fps = source.FrameRate() > 0.0 ? source.FrameRate() : 60.0;
 

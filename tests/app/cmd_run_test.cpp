@@ -1,16 +1,16 @@
+#include "run_command.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "run_command.h"
-
 namespace pg {
 namespace {
 
-using ::testing::HasSubstr;
 using test::RunProxygrasp;
+using ::testing::HasSubstr;
 
 std::string Level(const std::string& name) {
   return std::string(PROXYGRASP_SOURCE_DIR) + "/levels/" + name;

@@ -173,10 +173,24 @@ TEST(SenseCommand, FramesOfTheWrongSizeAreReportedAndSkipped) {
   EXPECT_THAT(r.output, HasSubstr("{\"frame\": 2, \"contacts\": []}"));
 }
 
-TEST(SenseCommand, LevelFilesAreRefusedClearlyForNow) {
-  const auto r = RunProxygrasp("sense levels/some.toml");
+TEST(SenseCommand, LevelScriptIsInput) {
+  // side push: one fingertip from (20, 23) towards (32, 23) over 1.5 s, then 1 s more
+  const auto r =
+      RunProxygrasp("sense " + std::string(PROXYGRASP_SOURCE_DIR) + "/levels/side_push.toml");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("{\"frame\": 0, \"contacts\": [{\"id\": 1, \"state\": \"new\", "
+                                  "\"centroid\": [20.0"));
+  EXPECT_THAT(r.output, HasSubstr("{\"frame\": 149, "));
+  EXPECT_THAT(r.output, ::testing::Not(HasSubstr("{\"frame\": 150, ")));
+}
+
+TEST(SenseCommand, BadLevelFileExitsTwoWithLocation) {
+  const std::string path = (std::filesystem::temp_directory_path() / "pg_sense_bad.toml").string();
+  std::ofstream(path) << "[camera]\nwidht = 640\n";
+  const auto r = RunProxygrasp("sense " + path);
   EXPECT_EQ(r.exitCode, 2);
-  EXPECT_THAT(r.output, HasSubstr("levels/some.toml: level scripts as input"));
+  EXPECT_THAT(r.output, HasSubstr(path + ":2:1:"));
+  EXPECT_THAT(r.output, HasSubstr("did you mean 'width'"));
 }
 
 TEST(SenseCommand, SetChangesParameters) {

@@ -139,8 +139,8 @@ std::string WithoutTimings(const std::string& csv) {
 }
 
 TEST(Runner, TracesAreDeterministicAndMatchTheGoldenHash) {
-  const Result<Level> level = LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) +
-                                        "/levels/side_push.toml");
+  const Result<Level> level =
+      LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) + "/levels/side_push.toml");
   ASSERT_TRUE(level.ok()) << level.error().Format();
   const Result<LevelResult> a = RunLevel(level.value(), {});
   const Result<LevelResult> b = RunLevel(level.value(), {});
