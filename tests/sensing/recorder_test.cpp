@@ -1,13 +1,14 @@
 #include "proxygrasp/sensing/recorder.h"
 
-#include "proxygrasp/core/rng.h"
-#include "proxygrasp/sensing/frame_source.h"
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
 #include <opencv2/imgproc.hpp>
 
 #include <filesystem>
+
+#include "proxygrasp/core/rng.h"
+#include "proxygrasp/sensing/frame_source.h"
 
 namespace pg {
 namespace {

@@ -2,13 +2,13 @@
 // through `--input video:FILE` or as a level's input.
 #pragma once
 
-#include "proxygrasp/core/error.h"
-
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
 
 #include <cstdint>
 #include <string>
+
+#include "proxygrasp/core/error.h"
 
 namespace pg {
 
