@@ -37,6 +37,7 @@ struct CalibrateArgs {
   int retries = 3;
   int backgroundFrames = 30;
   double maxError = 0.1;
+  int radialTerms = 1;
   std::string intrinsics;
   // the synthetic camera
   double perspective = 0.06;
@@ -189,6 +190,7 @@ int Calibrate(const CalibrateArgs& args) {
   }
   params.squarePx = args.squarePx;
   params.maxErrorCm = args.maxError;
+  params.radialTerms = args.radialTerms;
   if (!args.intrinsics.empty()) {
     // a known lens: keep its intrinsics and distortion, fit only the homography
     Result<Calibration> known = LoadCalibration(args.intrinsics);
@@ -352,6 +354,10 @@ void AddCalibrateCommand(CLI::App& app, int& exitCode) {
                   "Reject a fit whose worst corner is off by more, cm")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 10.0));
+  cmd->add_option("--radial-terms", args.radialTerms,
+                  "Radial distortion terms fitted: 1 (k1), 2 (k1, k2)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 2));
   cmd->add_option("--intrinsics", args.intrinsics,
                   "Keep the lens of this calibration file; fit only the homography");
   cmd->add_option("--perspective", args.perspective, "--synthetic: keystone, fraction of the width")
