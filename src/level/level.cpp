@@ -5,8 +5,8 @@
 
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
-#include "proxygrasp/sensing/frame_source.h"
 
+#include <opencv2/videoio.hpp>
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -725,21 +725,20 @@ class Loader {
                        "recording '" + script.recording + "' not found (looked for " + path + ")");
     }
     // count the frames: the default duration, and a check that the file is a readable video
-    Result<std::unique_ptr<FrameSource>> source = OpenFrameSource("video:" + path);
-    if (!source.ok()) {
+    // (FFmpeg only, as recordings are FFV1: probing every backend on a broken file would also try
+    // camera libraries)
+    cv::VideoCapture video;
+    try {
+      video.open(path, cv::CAP_FFMPEG);
+    } catch (const cv::Exception&) {
+      video.release();
+    }
+    if (!video.isOpened()) {
       return MakeError(
-          at, "recording '" + script.recording + "' cannot be read: " + source.error().Format());
+          at, "recording '" + script.recording + "' cannot be read as a video (" + path + ")");
     }
-    cv::Mat frame;
     int64_t frames = 0;
-    for (FrameStatus status; (status = source.value()->Read(frame)) != FrameStatus::kEnd;) {
-      if (status != FrameStatus::kOk) {
-        return MakeError(at, "recording '" + script.recording + "': frame " +
-                                 std::to_string(frames) +
-                                 " cannot be read: " + source.value()->LastError());
-      }
-      ++frames;
-    }
+    while (video.grab()) ++frames;
     if (frames == 0) return MakeError(at, "recording '" + script.recording + "' holds no frames");
     script.recording = path;
     script.recordingFrames = frames;

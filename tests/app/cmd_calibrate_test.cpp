@@ -86,7 +86,7 @@ TEST(CalibrateCommand, BadInputIsReportedWithoutWritingAFile) {
   for (const Case& c : {
            Case{"--synthetic --output " + dir + "/no/such/folder/calib.yaml",
                 dir + "/no/such/folder/calib.yaml: cannot write"},
-           Case{"--camera camera:99 --output " + out, "camera:99"},
+           Case{"--camera /dev/video99 --output " + out, "/dev/video99: no such camera device"},
            Case{"--camera video:" + dir + "/missing.mkv --output " + out, "missing.mkv"},
            Case{"--synthetic --camera camera:0 --output " + out, "excludes"},
            Case{"--synthetic --display-size 1024 --output " + out, "--display-size 1024"},
