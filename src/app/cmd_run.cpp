@@ -14,6 +14,7 @@ struct RunArgs {
   std::vector<std::string> sets;
   std::string mode;
   std::string traceDir;
+  std::string record;
   int64_t frames = -1;
   bool profile = false;
 };
@@ -22,6 +23,11 @@ int RunLevels(const RunArgs& args) {
   RunOptions options;
   options.frames = args.frames;
   options.traceDir = args.traceDir;
+  options.record = args.record;
+  if (!args.record.empty() && args.levels.size() != 1) {
+    std::cerr << "proxygrasp run: --record " << args.record << ": record one level at a time\n";
+    return kExitBadInput;
+  }
   if (!args.mode.empty()) {
     options.mode = args.mode == "instant" ? ProxyMode::kInstant : ProxyMode::kPersistent;
   }
@@ -83,6 +89,9 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--frames", args.frames, "Frames per run (default: the script's duration)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--profile", args.profile, "Print median and p99 milliseconds per stage");
+  cmd->add_option("--record", args.record,
+                  "Record the first run's camera frames to FILE (lossless .mkv) and its trace "
+                  "into FILE's name without extension + _trace/");
   cmd->callback([&exitCode] { exitCode = RunLevels(args); });
 }
 

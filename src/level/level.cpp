@@ -6,6 +6,7 @@
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
 
+#include <opencv2/videoio.hpp>
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -654,7 +655,8 @@ class Loader {
       script.loc = Loc(t->source());
       // duration and interpolation
       Errors errors;
-      UnknownKeys(*t, {"duration", "interpolation", "contacts"}, " in [script]", errors);
+      UnknownKeys(*t, {"duration", "interpolation", "contacts", "recording"}, " in [script]",
+                  errors);
       struct Head {
         double duration = 1.0;
         Interpolation interpolation = Interpolation::kLinear;
@@ -662,10 +664,12 @@ class Loader {
       TableReader reader(*t, "script.");
       reader.Real("duration", head.duration, 0.01, 3600, "s", "");
       VisitEnum(reader, "interpolation", head.interpolation, kInterpolationNames, "");
+      reader.Text("recording", script.recording, "");
       errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
       if (Status s = Earliest(errors)) return s;
       if (t->contains("duration")) duration = head.duration;
       script.interpolation = head.interpolation;
+      if (Status s = ReadRecording(*t, level)) return s;
 
       // contacts
       if (const toml::node* contacts = t->get("contacts")) {
@@ -681,9 +685,13 @@ class Loader {
       }
     }
 
-    // the duration covers every keyframe; by default it runs on to let objects settle
+    // the duration covers every keyframe; by default it runs on to let objects settle, or as long
+    // as the recording
     const double last = LastKeyframeTime(script);
-    if (!duration) {
+    if (!duration && !script.recording.empty()) {
+      script.duration =
+          static_cast<double>(script.recordingFrames) / level.params.physics.frameRate;
+    } else if (!duration) {
       script.duration = last + kScriptSettleTime;
     } else if (*duration < last) {
       return MakeError(ValueLoc(*t, "duration"), "duration " + FormatDouble(*duration) +
@@ -692,6 +700,48 @@ class Loader {
     } else {
       script.duration = *duration;
     }
+    return std::nullopt;
+  }
+
+  // [script] recording: a video file, relative to the level file that names it, that exists and
+  // holds frames; it replaces the contacts
+  static Status ReadRecording(const toml::table& t, Level& level) {
+    Script& script = level.script;
+    if (script.recording.empty()) {
+      if (t.contains("recording")) return MakeError(ValueLoc(t, "recording"), "recording is empty");
+      return std::nullopt;
+    }
+    const SourceLoc at = ValueLoc(t, "recording");
+    if (t.contains("contacts")) {
+      return MakeError(at, "a recording replaces the script's contacts: give one or the other");
+    }
+    const fs::path name(script.recording);
+    const std::string path =
+        name.is_absolute() ? name.string()
+                           : (fs::path(at.file).parent_path() / name).lexically_normal().string();
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) {
+      return MakeError(at,
+                       "recording '" + script.recording + "' not found (looked for " + path + ")");
+    }
+    // count the frames: the default duration, and a check that the file is a readable video
+    // (FFmpeg only, as recordings are FFV1: probing every backend on a broken file would also try
+    // camera libraries)
+    cv::VideoCapture video;
+    try {
+      video.open(path, cv::CAP_FFMPEG);
+    } catch (const cv::Exception&) {
+      video.release();
+    }
+    if (!video.isOpened()) {
+      return MakeError(
+          at, "recording '" + script.recording + "' cannot be read as a video (" + path + ")");
+    }
+    int64_t frames = 0;
+    while (video.grab()) ++frames;
+    if (frames == 0) return MakeError(at, "recording '" + script.recording + "' holds no frames");
+    script.recording = path;
+    script.recordingFrames = frames;
     return std::nullopt;
   }
 

@@ -2,6 +2,8 @@
 
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
+#include "proxygrasp/sensing/frame_source.h"
+#include "proxygrasp/sensing/recorder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -190,6 +192,50 @@ void AppendFrameRow(const FrameStats& f, double t, std::string& csv) {
          Fixed(f.totalMs, 4) + "\n";
 }
 
+// a run's frames come from its script, or from the level's recording; a recorder may keep them
+class RunInput {
+ public:
+  Status Open(const Level& level, const std::string& record, const Simulation& sim) {
+    if (!level.script.recording.empty()) {
+      Result<std::unique_ptr<FrameSource>> source =
+          OpenFrameSource("video:" + level.script.recording);
+      if (!source.ok()) return MakeError({level.script.recording}, source.error().Format());
+      m_source = std::move(source.value());
+    }
+    if (!record.empty()) {
+      const cv::Size size(sim.params().camera.width, sim.params().camera.height);
+      if (Status s = m_recorder.Open(record, size, sim.params().physics.frameRate)) return s;
+    }
+    return std::nullopt;
+  }
+
+  // steps one frame; false (and no error) when the recording has ended
+  Result<bool> Step(const Level& level, Simulation& sim) {
+    if (m_source) {
+      const FrameStatus status = m_source->Read(m_frame);
+      if (status == FrameStatus::kEnd) return false;
+      if (status != FrameStatus::kOk) {
+        return MakeError({level.script.recording},
+                         "frame " + std::to_string(sim.Frame()) + ": " + m_source->LastError());
+      }
+      if (Status s = sim.StepImage(m_frame)) return *s;
+    } else if (Status s = sim.StepScript()) {
+      return *s;
+    }
+    if (m_recorder.IsOpen()) {
+      if (Status s = m_recorder.Write(sim.cameraImage())) return *s;
+    }
+    return true;
+  }
+
+  void Close() { m_recorder.Close(); }
+
+ private:
+  std::unique_ptr<FrameSource> m_source;
+  FrameRecorder m_recorder;
+  cv::Mat m_frame;
+};
+
 Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptions& options,
                          const FrameObserver& observer) {
   Simulation sim;
@@ -205,13 +251,20 @@ Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptio
       options.frames >= 0
           ? options.frames
           : static_cast<int64_t>(std::ceil(level.script.duration / frameDuration - 1e-9));
+  RunInput input;
+  if (Status s = input.Open(level, options.record, sim)) return *s;
   Evaluator evaluator(level, run, sim);
+  int64_t ran = 0;
   for (int64_t i = 0; i < frames; ++i) {
-    if (Status s = sim.StepScript()) {
-      s->message = level.path + ": run " + out.name + ": " + s->Format();
-      s->loc = {};
-      return *s;
+    Result<bool> stepped = input.Step(level, sim);
+    if (!stepped.ok()) {
+      Error e = stepped.error();
+      e.message = level.path + ": run " + out.name + ": " + e.Format();
+      e.loc = {};
+      return e;
     }
+    if (!stepped.value()) break;
+    ran = i + 1;
     // the state after frame i belongs to the time at the end of the frame
     const double t = static_cast<double>(i + 1) * frameDuration;
     out.frames.push_back(sim.stats());
@@ -220,7 +273,8 @@ Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptio
     evaluator.AfterFrame(sim, t, out);
     if (observer) observer(out, sim);
   }
-  evaluator.Finish(sim, static_cast<double>(frames) * frameDuration, out);
+  input.Close();
+  evaluator.Finish(sim, static_cast<double>(ran) * frameDuration, out);
   return out;
 }
 
@@ -249,8 +303,14 @@ Result<LevelResult> RunLevel(const Level& level, const RunOptions& options,
   LevelResult result;
   const std::vector<LevelRun> runs = LevelRuns(level, options.mode);
   for (const LevelRun& run : runs) {
-    Result<RunResult> one = RunOne(level, run, options, observer);
+    // only the first run is recorded, with its trace beside the video
+    RunOptions runOptions = options;
+    if (&run != &runs.front()) runOptions.record.clear();
+    Result<RunResult> one = RunOne(level, run, runOptions, observer);
     if (!one.ok()) return one.error();
+    if (!runOptions.record.empty()) {
+      if (Status s = WriteTrace(one.value(), RecordingTraceDir(runOptions.record))) return *s;
+    }
     if (!options.traceDir.empty()) {
       // one run writes straight into the folder; several get a folder each
       std::string dir = options.traceDir;
@@ -264,6 +324,11 @@ Result<LevelResult> RunLevel(const Level& level, const RunOptions& options,
     result.runs.push_back(std::move(one.value()));
   }
   return result;
+}
+
+std::string RecordingTraceDir(const std::string& recordingPath) {
+  std::filesystem::path p(recordingPath);
+  return (p.parent_path() / (p.stem().string() + "_trace")).string();
 }
 
 Status WriteTrace(const RunResult& run, const std::string& dir) {

@@ -4,6 +4,7 @@ proxygrasp_test(level runner)
 proxygrasp_test(level describe)
 proxygrasp_test(level level)
 proxygrasp_test(level script)
+proxygrasp_test(level recording)
 
 # every level in levels/ is a test, run through the same runner as `proxygrasp run`
 file(GLOB PROXYGRASP_LEVELS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/levels/*.toml)

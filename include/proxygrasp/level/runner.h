@@ -20,7 +20,14 @@ struct RunOptions {
   std::optional<ProxyMode> mode;  ///< force every run into this proxy mode
   int64_t frames = -1;            ///< frames per run; < 0 runs the script's duration
   std::string traceDir;           ///< write objects.csv and frames.csv here ("" = no trace)
+  /// Record the first run's camera frames to this video (FFV1 .mkv) and its trace into
+  /// RecordingTraceDir(record); "" records nothing.
+  std::string record;
 };
+
+/// Where a recording's trace goes: the file's path without its extension plus "_trace"
+/// ("runs/push.mkv" -> "runs/push_trace").
+std::string RecordingTraceDir(const std::string& recordingPath);
 
 /// The outcome of one expectation in one run.
 struct ExpectationResult {

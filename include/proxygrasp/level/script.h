@@ -6,6 +6,7 @@
 #include "proxygrasp/core/geometry.h"
 #include "proxygrasp/sensing/types.h"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -48,6 +49,10 @@ struct Script {
   double duration = kScriptSettleTime;  ///< s; default: the last keyframe + kScriptSettleTime
   Interpolation interpolation = Interpolation::kLinear;  ///< default for contacts naming none
   std::vector<ScriptContact> contacts;
+  /// A recorded video (`proxygrasp run --record`) whose frames replace the rendered contacts, as
+  /// an absolute or level-relative path resolved by the loader; "" renders the contacts.
+  std::string recording;
+  int64_t recordingFrames = 0;  ///< frames in the recording, counted by the loader
   SourceLoc loc;
 };
 
