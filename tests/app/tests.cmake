@@ -1,3 +1,8 @@
 proxygrasp_test(app main)
 proxygrasp_test(app cmd_params)
 proxygrasp_test(app cmd_sense LIBS pg_sensing)
+proxygrasp_test(app table_view)
+proxygrasp_test(app hand_input)
+proxygrasp_test(app video)
+proxygrasp_test(app app)
+proxygrasp_test(app cmd_play)
