@@ -31,9 +31,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr double kRetrySeconds = 1.0;     // between attempts to reopen a lost camera
-constexpr double kMessageSeconds = 4.0;   // how long a transient message stays on screen
-constexpr double kFpsSmoothing = 0.1;     // weight of the newest frame in the frame-rate average
+constexpr double kRetrySeconds = 1.0;    // between attempts to reopen a lost camera
+constexpr double kMessageSeconds = 4.0;  // how long a transient message stays on screen
+constexpr double kFpsSmoothing = 0.1;    // weight of the newest frame in the frame-rate average
 
 const std::vector<std::string> kHelpLines = {
     "Keys",
@@ -83,8 +83,7 @@ class PanelVisitor : public ParamVisitor {
             const char* doc) override {
     const double speed = std::max(std::abs(value) * 0.01, 1e-3);
     ImGui::DragScalar(Label(key, unit).c_str(), ImGuiDataType_Double, &value,
-                      static_cast<float>(speed), &min, &max, "%.4g",
-                      ImGuiSliderFlags_AlwaysClamp);
+                      static_cast<float>(speed), &min, &max, "%.4g", ImGuiSliderFlags_AlwaysClamp);
     After(doc);
   }
   void Integer(const char* key, int& value, int min, int max, const char* unit,
@@ -110,8 +109,8 @@ class PanelVisitor : public ParamVisitor {
   }
   void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
               const char* doc) override {
-    ImGui::DragScalarN(Label(key, unit).c_str(), ImGuiDataType_Double, value.data(), 2, 0.05f,
-                       &min, &max, "%.3g", ImGuiSliderFlags_AlwaysClamp);
+    ImGui::DragScalarN(Label(key, unit).c_str(), ImGuiDataType_Double, value.data(), 2, 0.05f, &min,
+                       &max, "%.3g", ImGuiSliderFlags_AlwaysClamp);
     After(doc);
   }
 
@@ -363,8 +362,8 @@ Status App::Impl::SetupInput() {
     if (!video.ok()) return MakeError({}, "--input " + spec + ": " + video.error().Format());
     source = std::move(video.value());
   } else {
-    return MakeError({}, "--input " + spec +
-                             ": expected camera:N, video:FILE, script, mouse or touch");
+    return MakeError({},
+                     "--input " + spec + ": expected camera:N, video:FILE, script, mouse or touch");
   }
   return std::nullopt;
 }
@@ -394,28 +393,54 @@ Vec2 App::Impl::WindowToTable(int x, int y) const {
 
 void App::Impl::HandleKey(SDL_Keycode key) {
   switch (key) {
-    case SDLK_p: pending.pause = !paused; break;
-    case SDLK_o: pending.step = true; break;
-    case SDLK_r: pending.restart = true; break;
-    case SDLK_l: pending.reload = true; break;
-    case SDLK_TAB: pending.nextLevel = true; break;
+    case SDLK_p:
+      pending.pause = !paused;
+      break;
+    case SDLK_o:
+      pending.step = true;
+      break;
+    case SDLK_r:
+      pending.restart = true;
+      break;
+    case SDLK_l:
+      pending.reload = true;
+      break;
+    case SDLK_TAB:
+      pending.nextLevel = true;
+      break;
     case SDLK_f:
       pending.fullscreen = (SDL_GetWindowFlags(window) & SDL_WINDOW_FULLSCREEN_DESKTOP) == 0;
       break;
-    case SDLK_s: pending.screenshot = std::string(); break;
-    case SDLK_v: pending.recording = !recorder.IsOpen(); break;
-    case SDLK_h: viewOptions.help = !viewOptions.help; break;
-    case SDLK_e: viewOptions.forces = !viewOptions.forces; break;
-    case SDLK_y: viewOptions.successors = !viewOptions.successors; break;
-    case SDLK_c: viewOptions.cameraImage = !viewOptions.cameraImage; break;
+    case SDLK_s:
+      pending.screenshot = std::string();
+      break;
+    case SDLK_v:
+      pending.recording = !recorder.IsOpen();
+      break;
+    case SDLK_h:
+      viewOptions.help = !viewOptions.help;
+      break;
+    case SDLK_e:
+      viewOptions.forces = !viewOptions.forces;
+      break;
+    case SDLK_y:
+      viewOptions.successors = !viewOptions.successors;
+      break;
+    case SDLK_c:
+      viewOptions.cameraImage = !viewOptions.cameraImage;
+      break;
     case SDLK_RIGHTBRACKET:
-      viewOptions.layer = viewOptions.layer + 1 >= params.physics.layers ? -1 : viewOptions.layer + 1;
+      viewOptions.layer =
+          viewOptions.layer + 1 >= params.physics.layers ? -1 : viewOptions.layer + 1;
       break;
     case SDLK_LEFTBRACKET:
       viewOptions.layer = viewOptions.layer < 0 ? params.physics.layers - 1 : viewOptions.layer - 1;
       break;
-    case SDLK_ESCAPE: quit = true; break;
-    default: break;
+    case SDLK_ESCAPE:
+      quit = true;
+      break;
+    default:
+      break;
   }
 }
 
@@ -425,7 +450,9 @@ void App::Impl::HandleEvent(const SDL_Event& event) {
   const bool rotate = (SDL_GetModState() & (KMOD_CTRL | KMOD_ALT)) != 0;
   const bool flat = (SDL_GetModState() & KMOD_SHIFT) != 0;
   switch (event.type) {
-    case SDL_QUIT: quit = true; break;
+    case SDL_QUIT:
+      quit = true;
+      break;
     case SDL_WINDOWEVENT:
       if (event.window.event == SDL_WINDOWEVENT_CLOSE) quit = true;
       if (event.window.event == SDL_WINDOWEVENT_FOCUS_LOST) mouse.Clear();
@@ -435,7 +462,8 @@ void App::Impl::HandleEvent(const SDL_Event& event) {
       break;
     case SDL_MOUSEBUTTONDOWN:
       // touches also arrive as mouse events; the touch input takes them as fingers instead
-      if (input != InputKind::kMouse || io.WantCaptureMouse || event.button.which == SDL_TOUCH_MOUSEID)
+      if (input != InputKind::kMouse || io.WantCaptureMouse ||
+          event.button.which == SDL_TOUCH_MOUSEID)
         break;
       if (event.button.button == SDL_BUTTON_LEFT)
         mouse.Press(MouseHands::Button::kLeft, WindowToTable(event.button.x, event.button.y), flat);
@@ -455,22 +483,23 @@ void App::Impl::HandleEvent(const SDL_Event& event) {
       break;
     case SDL_MOUSEWHEEL: {
       if (input != InputKind::kMouse || io.WantCaptureMouse) break;
-      const double notches = event.wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -event.wheel.y
-                                                                              : event.wheel.y;
+      const double notches =
+          event.wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -event.wheel.y : event.wheel.y;
       mouse.Wheel(notches, rotate);
       break;
     }
     case SDL_FINGERDOWN:
     case SDL_FINGERMOTION:
       if (input != InputKind::kTouch) break;
-      touch.Move(static_cast<int64_t>(event.tfinger.fingerId),
-                 map.ToTable({event.tfinger.x * outputSize.width,
-                              event.tfinger.y * outputSize.height}));
+      touch.Move(
+          static_cast<int64_t>(event.tfinger.fingerId),
+          map.ToTable({event.tfinger.x * outputSize.width, event.tfinger.y * outputSize.height}));
       break;
     case SDL_FINGERUP:
       if (input == InputKind::kTouch) touch.Lift(static_cast<int64_t>(event.tfinger.fingerId));
       break;
-    default: break;
+    default:
+      break;
   }
 }
 
@@ -480,19 +509,15 @@ void App::Impl::NextLevel() {
   const fs::path current = fs::path(options.level);
   std::vector<std::string> files;
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(current.parent_path().empty()
-                                                      ? fs::path(".")
-                                                      : current.parent_path(),
-                                                  ec)) {
+  for (const auto& entry : fs::directory_iterator(
+           current.parent_path().empty() ? fs::path(".") : current.parent_path(), ec)) {
     if (entry.path().extension() == ".toml") files.push_back(entry.path().string());
   }
   std::sort(files.begin(), files.end());
   if (files.empty()) return;
-  auto it = std::find_if(files.begin(), files.end(), [&](const std::string& f) {
-    return fs::equivalent(f, current, ec);
-  });
-  const std::string next =
-      (it == files.end() || it + 1 == files.end()) ? files.front() : *(it + 1);
+  auto it = std::find_if(files.begin(), files.end(),
+                         [&](const std::string& f) { return fs::equivalent(f, current, ec); });
+  const std::string next = (it == files.end() || it + 1 == files.end()) ? files.front() : *(it + 1);
   if (Status s = Load(next)) {
     loadError = s->Format();
     std::cerr << loadError << "\n";
@@ -551,8 +576,7 @@ void App::Impl::ApplyPending() {
 
 void App::Impl::CheckLevelFiles() {
   const Clock::time_point now = Clock::now();
-  if (std::chrono::duration<double>(now - lastReloadCheck).count() < options.reloadInterval)
-    return;
+  if (std::chrono::duration<double>(now - lastReloadCheck).count() < options.reloadInterval) return;
   lastReloadCheck = now;
   for (const auto& [file, stamp] : stamps) {
     if (StampOf(file) != stamp) {
@@ -576,8 +600,12 @@ void App::Impl::StepInput() {
       }
       status = sim.StepScript();
       break;
-    case InputKind::kMouse: status = sim.StepShapes(mouse.Shapes()); break;
-    case InputKind::kTouch: status = sim.StepShapes(touch.Shapes()); break;
+    case InputKind::kMouse:
+      status = sim.StepShapes(mouse.Shapes());
+      break;
+    case InputKind::kTouch:
+      status = sim.StepShapes(touch.Shapes());
+      break;
     case InputKind::kCamera:
     case InputKind::kVideo: {
       // a lost or missing source shows "no input" and is retried, never fatal
@@ -681,11 +709,10 @@ void App::Impl::Record() {
   const std::string t = Fixed(sim.Time(), 6);
   for (int i = 0; i < sim.world().ObjectCount(); ++i) {
     const ObjectState s = sim.world().Object(i);
-    objectsCsv += std::to_string(frame) + "," + t + "," + s.name + "," +
-                  Fixed(s.pose.pos.x(), 6) + "," + Fixed(s.pose.pos.y(), 6) + "," +
-                  Fixed(RadToDeg(s.pose.angle), 6) + "," + Fixed(s.velocity.x(), 6) + "," +
-                  Fixed(s.velocity.y(), 6) + "," + Fixed(RadToDeg(s.angularVelocity), 6) + "," +
-                  (s.held ? "1" : "0") + "\n";
+    objectsCsv += std::to_string(frame) + "," + t + "," + s.name + "," + Fixed(s.pose.pos.x(), 6) +
+                  "," + Fixed(s.pose.pos.y(), 6) + "," + Fixed(RadToDeg(s.pose.angle), 6) + "," +
+                  Fixed(s.velocity.x(), 6) + "," + Fixed(s.velocity.y(), 6) + "," +
+                  Fixed(RadToDeg(s.angularVelocity), 6) + "," + (s.held ? "1" : "0") + "\n";
   }
   const FrameStats& f = sim.stats();
   framesCsv += std::to_string(f.frame) + "," + t + "," + std::to_string(f.contacts) + "," +
@@ -777,6 +804,7 @@ Status App::Open(const AppOptions& options) {
   Impl& a = *m_impl;
   assert(!a.sdlUp && "an App opens once");
   a.options = options;
+  a.viewOptions = options.view;
   // the level first: a bad file is reported before any window appears
   Result<Level> level = a.ReadLevel(options.level);
   if (!level.ok()) return level.error();
@@ -869,25 +897,63 @@ bool App::Tick() {
   return !a.quit;
 }
 
-void App::RequestPause(bool paused) { m_impl->pending.pause = paused; }
-void App::RequestStep() { m_impl->pending.step = true; }
-void App::RequestRestart() { m_impl->pending.restart = true; }
-void App::RequestReload() { m_impl->pending.reload = true; }
-void App::RequestNextLevel() { m_impl->pending.nextLevel = true; }
-void App::RequestFullscreen(bool fullscreen) { m_impl->pending.fullscreen = fullscreen; }
-void App::RequestScreenshot(const std::string& path) { m_impl->pending.screenshot = path; }
-void App::RequestRecording(bool on) { m_impl->pending.recording = on; }
+void App::RequestPause(bool paused) {
+  m_impl->pending.pause = paused;
+}
+void App::RequestStep() {
+  m_impl->pending.step = true;
+}
+void App::RequestRestart() {
+  m_impl->pending.restart = true;
+}
+void App::RequestReload() {
+  m_impl->pending.reload = true;
+}
+void App::RequestNextLevel() {
+  m_impl->pending.nextLevel = true;
+}
+void App::RequestFullscreen(bool fullscreen) {
+  m_impl->pending.fullscreen = fullscreen;
+}
+void App::RequestScreenshot(const std::string& path) {
+  m_impl->pending.screenshot = path;
+}
+void App::RequestRecording(bool on) {
+  m_impl->pending.recording = on;
+}
 
-const Simulation& App::simulation() const { return m_impl->sim; }
-const Level& App::level() const { return m_impl->level; }
-const DisplayMap& App::displayMap() const { return m_impl->map; }
-const cv::Mat& App::picture() const { return m_impl->picture; }
-const std::string& App::loadError() const { return m_impl->loadError; }
-const Result<std::string>& App::screenshotStatus() const { return m_impl->screenshot; }
-InputKind App::input() const { return m_impl->input; }
-bool App::paused() const { return m_impl->paused; }
-bool App::recording() const { return m_impl->recorder.IsOpen(); }
-uint32_t App::windowId() const { return m_impl->window ? SDL_GetWindowID(m_impl->window) : 0; }
-const std::string& App::recordingDir() const { return m_impl->recordDir; }
+const Simulation& App::simulation() const {
+  return m_impl->sim;
+}
+const Level& App::level() const {
+  return m_impl->level;
+}
+const DisplayMap& App::displayMap() const {
+  return m_impl->map;
+}
+const cv::Mat& App::picture() const {
+  return m_impl->picture;
+}
+const std::string& App::loadError() const {
+  return m_impl->loadError;
+}
+const Result<std::string>& App::screenshotStatus() const {
+  return m_impl->screenshot;
+}
+InputKind App::input() const {
+  return m_impl->input;
+}
+bool App::paused() const {
+  return m_impl->paused;
+}
+bool App::recording() const {
+  return m_impl->recorder.IsOpen();
+}
+uint32_t App::windowId() const {
+  return m_impl->window ? SDL_GetWindowID(m_impl->window) : 0;
+}
+const std::string& App::recordingDir() const {
+  return m_impl->recordDir;
+}
 
 }  // namespace pg

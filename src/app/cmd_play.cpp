@@ -26,6 +26,7 @@ struct PlayArgs {
   std::string screenshot;
   std::string size = "1280x960";
   std::string outDir = "out";
+  std::string show;
 };
 
 // the default level from the working directory, or from the source tree the executable was
@@ -63,6 +64,10 @@ int PlayHeadless(const PlayArgs& args, Level level) {
   VideoOptions video;
   video.videoPath = args.outDir + "/" + stem + ".mp4";
   video.pngPath = args.outDir + "/" + stem + ".png";
+  if (Status s = ParseViewOptions(args.show, video.view)) {
+    std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
+    return kExitBadInput;
+  }
   RunOptions options;
   options.frames = args.frames;
   std::cout << "proxygrasp play: no display; running " << level.path << " headless\n";
@@ -105,6 +110,10 @@ int Play(const PlayArgs& args) {
   options.fullscreen = a.fullscreen;
   options.display = a.display;
   options.outDir = a.outDir;
+  if (Status s = ParseViewOptions(a.show, options.view)) {
+    std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
+    return kExitBadInput;
+  }
   // a fixed number of frames runs as fast as it can (tests, screenshots)
   options.realtime = a.frames < 0;
   int w = 0;
@@ -157,6 +166,8 @@ void AddPlayCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--screenshot", args.screenshot, "Save the window as a PNG after the last frame")
       ->needs("--frames");
   cmd->add_option("--size", args.size, "Window size WxH in pixels (default 1280x960)");
+  cmd->add_option("--show", args.show,
+                  "Overlays at start: forces,successors,camera,help,nohud,layer=N");
   cmd->add_option("--out", args.outDir, "Folder for screenshots, recordings and headless output");
   cmd->callback([&exitCode] { exitCode = Play(args); });
 }

@@ -19,6 +19,7 @@ struct RunArgs {
   bool profile = false;
   std::string video;  // draw the first run into this video (one level only)
   std::string png;    // and one frame of it into this PNG
+  std::string show;   // overlays of the drawing
 };
 
 int RunLevels(const RunArgs& args) {
@@ -65,6 +66,10 @@ int RunLevels(const RunArgs& args) {
     VideoOptions video;
     video.videoPath = args.video;
     video.pngPath = args.png;
+    if (Status s = ParseViewOptions(args.show, video.view)) {
+      std::cerr << "proxygrasp run: --show: " << s->Format() << "\n";
+      return kExitBadInput;
+    }
     Result<LevelResult> result = (args.video.empty() && args.png.empty())
                                      ? RunLevel(level, levelOptions)
                                      : RunLevelToVideo(level, levelOptions, video);
@@ -100,6 +105,8 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--video", args.video,
                   "Draw the first run, as play draws it, into this video (.mp4: mp4v)");
   cmd->add_option("--png", args.png, "Save the frame at 60% of the first run as this PNG");
+  cmd->add_option("--show", args.show,
+                  "Overlays of --video and --png: forces,successors,camera,nohud,layer=N");
   cmd->add_flag("--profile", args.profile, "Print median and p99 milliseconds per stage");
   cmd->callback([&exitCode] { exitCode = RunLevels(args); });
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace pg {
 
@@ -167,6 +168,38 @@ Result<DisplayMap> LevelDisplayMap(const LevelParams& params, cv::Size size) {
   return DisplayMap(calibration.value().tableToDisplay);
 }
 
+Status ParseViewOptions(const std::string& list, ViewOptions& options) {
+  size_t start = 0;
+  while (start <= list.size()) {
+    size_t end = list.find(',', start);
+    if (end == std::string::npos) end = list.size();
+    const std::string word = list.substr(start, end - start);
+    start = end + 1;
+    if (word.empty()) continue;
+    if (word == "forces") {
+      options.forces = true;
+    } else if (word == "successors") {
+      options.successors = true;
+    } else if (word == "camera") {
+      options.cameraImage = true;
+    } else if (word == "help") {
+      options.help = true;
+    } else if (word == "nohud") {
+      options.hud = false;
+    } else if (word.rfind("layer=", 0) == 0) {
+      char* rest = nullptr;
+      const long layer = std::strtol(word.c_str() + 6, &rest, 10);
+      if (rest == word.c_str() + 6 || *rest != '\0' || layer < 0 || layer > 64)
+        return MakeError({}, "'" + word + "': the layer must be a number from 0");
+      options.layer = static_cast<int>(layer);
+    } else {
+      return MakeError({}, "unknown view '" + word +
+                               "' (expected forces, successors, camera, help, nohud or layer=N)");
+    }
+  }
+  return std::nullopt;
+}
+
 double GoalProgress(const Goal& goal, const Pose2& start, const Pose2& now) {
   if (goal.IsMet(now)) return 1.0;
   double progress = 1.0;
@@ -300,9 +333,9 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
     const int barHeight = std::max(4, size.height / 160);
     const cv::Rect bar(at.x - barWidth / 2, at.y + 6, barWidth, barHeight);
     cv::rectangle(img, bar, color, 1, cv::LINE_8);
-    cv::rectangle(img, cv::Rect(bar.x, bar.y, static_cast<int>(std::lround(barWidth * progress)),
-                                barHeight),
-                  color, cv::FILLED, cv::LINE_8);
+    cv::rectangle(
+        img, cv::Rect(bar.x, bar.y, static_cast<int>(std::lround(barWidth * progress)), barHeight),
+        color, cv::FILLED, cv::LINE_8);
     const std::string label =
         (goal.label.empty() ? goal.object : goal.label) + (met ? "  done" : "");
     int baseline = 0;
@@ -317,8 +350,9 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
         (options.layer < p.baseLayer || options.layer >= p.baseLayer + p.layerCount))
       continue;
     const double radius = std::max(1.5, params.physics.particleRadius * map.PixelsPerCm(p.pos));
-    cv::circle(img, Fixed(map.ToDisplay(p.pos)), static_cast<int>(std::lround(radius * kShiftScale)),
-               c::Layer(p.baseLayer), cv::FILLED, cv::LINE_AA, kShift);
+    cv::circle(img, Fixed(map.ToDisplay(p.pos)),
+               static_cast<int>(std::lround(radius * kShiftScale)), c::Layer(p.baseLayer),
+               cv::FILLED, cv::LINE_AA, kShift);
   }
 
   // contact contours over their particles
@@ -348,8 +382,8 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
       const ObjectForces forces = world.Forces(i);
       const bool oneLayer =
           options.layer >= 0 && options.layer < static_cast<int>(forces.layers.size());
-      const LayerForces& f = oneLayer ? forces.layers[static_cast<size_t>(options.layer)]
-                                      : forces.total;
+      const LayerForces& f =
+          oneLayer ? forces.layers[static_cast<size_t>(options.layer)] : forces.total;
       const Vec2 friction = oneLayer ? f.friction : Vec2(f.friction + forces.topFriction);
       const double pxPerDyn = 60.0 / std::max(1e-6, state.mass * params.physics.gravity);
       const auto toDisplayVector = [&](const Vec2& v) {
@@ -391,7 +425,8 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
   }
   if (options.help && !overlay.help.empty()) {
     std::vector<std::pair<std::string, cv::Scalar>> lines;
-    for (const std::string& line : overlay.help) lines.emplace_back(line, cv::Scalar(230, 230, 230));
+    for (const std::string& line : overlay.help)
+      lines.emplace_back(line, cv::Scalar(230, 230, 230));
     TextBox(img, lines, {size.width / 4, size.height / 4}, textScale * 1.2);
   }
   return img;

@@ -24,9 +24,10 @@ Result<LevelResult> RunLevelToVideo(const Level& level, const RunOptions& option
                                     const VideoOptions& video) {
   // the frame the PNG shows, counted from 1 like Simulation::Frame after a step
   const double frameRate = level.params.physics.frameRate;
-  const int64_t total = options.frames >= 0
-                            ? options.frames
-                            : static_cast<int64_t>(std::ceil(level.script.duration * frameRate - 1e-9));
+  const int64_t total =
+      options.frames >= 0
+          ? options.frames
+          : static_cast<int64_t>(std::ceil(level.script.duration * frameRate - 1e-9));
   const int64_t pngFrame =
       std::max<int64_t>(1, static_cast<int64_t>(std::lround(static_cast<double>(total) *
                                                             std::clamp(video.pngAt, 0.0, 1.0))));

@@ -35,9 +35,9 @@ class AppTest : public ::testing::Test {
     options.windowSize = {800, 600};
     options.realtime = false;
     options.reloadInterval = 0.0;  // look at the file every frame
-    options.outDir = (std::filesystem::temp_directory_path() /
-                      ("pg_app_out_" + std::to_string(getpid())))
-                         .string();
+    options.outDir =
+        (std::filesystem::temp_directory_path() / ("pg_app_out_" + std::to_string(getpid())))
+            .string();
     return options;
   }
 
@@ -79,7 +79,9 @@ void PushWheel(const App& app, int notches) {
   ASSERT_EQ(SDL_PushEvent(&e), 1) << SDL_GetError();
 }
 
-ObjectState Box(const App& app) { return app.simulation().world().Object(0); }
+ObjectState Box(const App& app) {
+  return app.simulation().world().Object(0);
+}
 
 TEST_F(AppTest, MousePinchGraspsAndDragMovesTheBox) {
   App app;

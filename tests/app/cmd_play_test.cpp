@@ -1,10 +1,11 @@
 // `proxygrasp play` as a user runs it: in a window on a private X server for a number of frames
 // with a screenshot, and with no display at all (headless video and PNG).
 #include "pixels.h"
-#include "proxygrasp/app/table_view.h"
-#include "proxygrasp/level/level.h"
 #include "run_command.h"
 #include "xvfb.h"
+
+#include "proxygrasp/app/table_view.h"
+#include "proxygrasp/level/level.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -32,8 +33,8 @@ test::CommandResult RunWithEnv(const std::string& env, const std::string& args) 
 }
 
 std::string TempDir(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("pg_play_" + std::to_string(getpid()) + "_" + name);
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("pg_play_" + std::to_string(getpid()) + "_" + name);
   std::filesystem::create_directories(dir);
   return dir.string();
 }
@@ -45,10 +46,10 @@ TEST(PlayCommand, ScreenshotShowsObjectsParticlesAndTheGoal) {
   const std::string dir = TempDir("shot");
   const std::string shot = dir + "/shot.png";
   constexpr int kFrames = 30;
-  const test::CommandResult r = RunWithEnv(
-      "-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
-      "play " + kLevel + " --input script --frames " + std::to_string(kFrames) +
-          " --screenshot " + shot + " --size 800x600 --out " + dir);
+  const test::CommandResult r =
+      RunWithEnv("-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
+                 "play " + kLevel + " --input script --frames " + std::to_string(kFrames) +
+                     " --screenshot " + shot + " --size 800x600 --out " + dir);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("screenshot: " + shot), std::string::npos) << r.output;
 
@@ -61,8 +62,7 @@ TEST(PlayCommand, ScreenshotShowsObjectsParticlesAndTheGoal) {
   const double ppcm = map.PixelsPerCm({30, 23});
 
   // the box, untouched, where the level puts it: 6 x 6 cm at (30, 23)
-  const test::ColorPixels box =
-      test::FindColor(picture, view_colors::Object(0), kColorTolerance);
+  const test::ColorPixels box = test::FindColor(picture, view_colors::Object(0), kColorTolerance);
   EXPECT_GT(box.count, 0.9 * 36 * ppcm * ppcm);
   EXPECT_LT(box.count, 1.02 * 36 * ppcm * ppcm);
   const Vec2 boxAt = map.ToTable(box.centroid - cv::Point2d(0.5, 0.5));
@@ -130,8 +130,8 @@ TEST(PlayCommand, ABadLevelIsReportedWithItsLocation) {
 
 TEST(RunCommand, VideoOptionDrawsTheRun) {
   const std::string dir = TempDir("run");
-  const test::CommandResult r = test::RunProxygrasp("run " + kLevel + " --frames 6 --video " +
-                                                    dir + "/out.mp4 --png " + dir + "/out.png");
+  const test::CommandResult r = test::RunProxygrasp("run " + kLevel + " --frames 6 --video " + dir +
+                                                    "/out.mp4 --png " + dir + "/out.png");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("video: " + dir + "/out.mp4"), std::string::npos) << r.output;
   cv::VideoCapture capture(dir + "/out.mp4");

@@ -3,6 +3,7 @@
 #include "proxygrasp/app/table_view.h"
 
 #include "pixels.h"
+
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/level/script.h"
 #include "proxygrasp/sensing/calibration.h"
@@ -95,6 +96,21 @@ TEST(GoalProgress, IsTheFractionOfDistanceAndAngleCovered) {
   both.angle = turn.angle;
   both.tolerance = turn.tolerance;
   EXPECT_NEAR(GoalProgress(both, {{0, 0}, 0}, {{9, 0}, DegToRad(40)}), 0.5, 1e-12);
+}
+
+TEST(ViewOptions, ParsesAListOfOverlays) {
+  ViewOptions options;
+  ASSERT_FALSE(ParseViewOptions("forces,successors,camera,layer=2,nohud", options));
+  EXPECT_TRUE(options.forces);
+  EXPECT_TRUE(options.successors);
+  EXPECT_TRUE(options.cameraImage);
+  EXPECT_FALSE(options.hud);
+  EXPECT_EQ(options.layer, 2);
+  ASSERT_FALSE(ParseViewOptions("", options));
+  const Status bad = ParseViewOptions("forces,frcs", options);
+  ASSERT_TRUE(bad);
+  EXPECT_NE(bad->message.find("unknown view 'frcs'"), std::string::npos) << bad->message;
+  EXPECT_TRUE(ParseViewOptions("layer=x", options));
 }
 
 class TableViewTest : public ::testing::Test {

@@ -6,8 +6,8 @@
 #include <csignal>
 #include <filesystem>
 #include <string>
-#include <thread>
 #include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
 
 namespace pg::test {

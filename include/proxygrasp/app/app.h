@@ -32,12 +32,13 @@ struct AppOptions {
   /// "camera:N", "video:FILE", "script", "mouse" or "touch"; "" takes camera 0 when it opens and
   /// the mouse otherwise.
   std::string input;
-  bool fullscreen = false;             ///< full screen (desktop resolution) on `display`
-  int display = 0;                     ///< display index for the window or full screen
-  cv::Size windowSize{1280, 960};      ///< window size when not full screen, px
-  std::string outDir = "out";          ///< where S screenshots and V recordings go
-  bool realtime = true;                ///< pace frames at the level's frame rate
-  double reloadInterval = 0.25;        ///< s between checks of the level files for changes
+  bool fullscreen = false;         ///< full screen (desktop resolution) on `display`
+  int display = 0;                 ///< display index for the window or full screen
+  cv::Size windowSize{1280, 960};  ///< window size when not full screen, px
+  std::string outDir = "out";      ///< where S screenshots and V recordings go
+  bool realtime = true;            ///< pace frames at the level's frame rate
+  double reloadInterval = 0.25;    ///< s between checks of the level files for changes
+  ViewOptions view;                ///< the overlays shown at start
 };
 
 /// The app. Only one may be open at a time (SDL and Dear ImGui keep process-wide state).

@@ -15,14 +15,14 @@ namespace pg {
 
 /// Settings of the mouse hands.
 struct MouseHandParams {
-  double fingerRadius = 0.8;   ///< fingertip radius, cm
-  double opening = 8.0;        ///< starting distance between the pinch's fingertip centres, cm
-  double minOpening = 1.6;     ///< closest the pinch closes, cm
-  double maxOpening = 40.0;    ///< widest the pinch opens, cm
-  double wheelStep = 0.5;      ///< opening change per wheel notch, cm
+  double fingerRadius = 0.8;  ///< fingertip radius, cm
+  double opening = 8.0;       ///< starting distance between the pinch's fingertip centres, cm
+  double minOpening = 1.6;    ///< closest the pinch closes, cm
+  double maxOpening = 40.0;   ///< widest the pinch opens, cm
+  double wheelStep = 0.5;     ///< opening change per wheel notch, cm
   double rotateStep = DegToRad(5.0);  ///< pinch turn per wheel notch with the modifier, rad
-  double dragRotate = 0.1;     ///< pinch turn per cm of horizontal drag with the modifier, rad/cm
-  double handScale = 0.9;      ///< flat hand size, non-dimensional
+  double dragRotate = 0.1;  ///< pinch turn per cm of horizontal drag with the modifier, rad/cm
+  double handScale = 0.9;   ///< flat hand size, non-dimensional
 };
 
 /// The mouse as hands: left drag moves one fingertip; right drag is a two-finger pinch around the

@@ -47,19 +47,23 @@ Result<DisplayMap> LevelDisplayMap(const LevelParams& params, cv::Size size);
 
 /// What the table view draws besides objects, particles, contours and goals.
 struct ViewOptions {
-  bool forces = false;       ///< friction (orange) and normal (blue) force vectors on objects
-  bool successors = false;   ///< a line from where each reused particle was last drawn to its target
-  int layer = -1;            ///< draw only this height layer (-1: every layer)
+  bool forces = false;      ///< friction (orange) and normal (blue) force vectors on objects
+  bool successors = false;  ///< a line from where each reused particle was last drawn to its target
+  int layer = -1;           ///< draw only this height layer (-1: every layer)
   bool cameraImage = false;  ///< the raw camera image under the drawing
   bool hud = true;           ///< the heads-up line
   bool help = false;         ///< the key help overlay
 };
 
+/// Turns on the overlays named in a comma-separated list: "forces", "successors", "camera",
+/// "help", "nohud", "layer=N". Errors name the unknown word.
+Status ParseViewOptions(const std::string& list, ViewOptions& options);
+
 /// Text the caller adds to the picture: frame rate, state and errors.
 struct Overlay {
-  double fps = 0.0;            ///< frames per second of the loop (0: not shown)
-  std::string status;          ///< e.g. "paused", "recording out/rec.mkv"
-  std::string error;           ///< shown in red, e.g. a failed reload's file:line:col: message
+  double fps = 0.0;               ///< frames per second of the loop (0: not shown)
+  std::string status;             ///< e.g. "paused", "recording out/rec.mkv"
+  std::string error;              ///< shown in red, e.g. a failed reload's file:line:col: message
   std::vector<std::string> help;  ///< lines of the help overlay when ViewOptions::help
 };
 

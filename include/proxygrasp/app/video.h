@@ -14,11 +14,11 @@ namespace pg {
 
 /// Where and how to draw a headless run.
 struct VideoOptions {
-  std::string videoPath;       ///< video of the first run's frames ("" = none); .mp4 uses mp4v
-  std::string pngPath;         ///< PNG of one frame of the first run ("" = none)
-  double pngAt = 0.6;          ///< which frame the PNG shows, as a fraction of the run, 0..1
-  cv::Size size{1024, 768};    ///< picture size, px
-  ViewOptions view;            ///< what is drawn
+  std::string videoPath;     ///< video of the first run's frames ("" = none); .mp4 uses mp4v
+  std::string pngPath;       ///< PNG of one frame of the first run ("" = none)
+  double pngAt = 0.6;        ///< which frame the PNG shows, as a fraction of the run, 0..1
+  cv::Size size{1024, 768};  ///< picture size, px
+  ViewOptions view;          ///< what is drawn
 };
 
 /// Runs every run of the level as RunLevel does and draws the first run's frames into the video
