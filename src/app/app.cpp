@@ -216,6 +216,9 @@ struct App::Impl {
   void StopRecording();
   void DrawPanel();
   void CopyToml();
+  // the level file's name without folder and extension, for output file names
+  std::string Stem() const { return std::filesystem::path(options.level).stem().string(); }
+  std::string ChangedToml() const;
   void NextLevel();
   Status WriteScreenshot(const std::string& path);
 };
@@ -659,7 +662,6 @@ void App::Impl::StepInput() {
     runError = status->Format();
     return;
   }
-  if (input != InputKind::kCamera && input != InputKind::kVideo) runError.clear();
   Record();
 }
 
@@ -668,7 +670,7 @@ void App::Impl::StartRecording() {
   // a fresh folder out/<level>_recN with input.mkv, objects.csv and frames.csv
   std::string dir;
   for (int k = 1;; ++k) {
-    dir = options.outDir + "/" + level.name + "_rec" + std::to_string(k);
+    dir = options.outDir + "/" + Stem() + "_rec" + std::to_string(k);
     if (!std::filesystem::exists(dir)) break;
   }
   std::error_code ec;
@@ -722,7 +724,7 @@ void App::Impl::Record() {
                Fixed(f.physicsMs, 4) + "," + Fixed(f.totalMs, 4) + "\n";
 }
 
-void App::Impl::CopyToml() {
+std::string App::Impl::ChangedToml() const {
   // the parameters that differ from the level file, section by section
   LevelParams fileParams = level.params;
   LevelParams current = params;
@@ -736,6 +738,11 @@ void App::Impl::CopyToml() {
     toml += changed;
   }
   if (toml.empty()) toml = "# no parameter differs from " + options.level + "\n";
+  return toml;
+}
+
+void App::Impl::CopyToml() {
+  const std::string toml = ChangedToml();
   SDL_SetClipboardText(toml.c_str());
   std::cout << toml << std::flush;
   Say("copied the changed parameters as TOML");
@@ -873,7 +880,7 @@ bool App::Tick() {
     std::string path = *a.pending.screenshot;
     a.pending.screenshot.reset();
     if (path.empty())
-      path = a.options.outDir + "/" + a.level.name + "_" + std::to_string(a.sim.Frame()) + ".png";
+      path = a.options.outDir + "/" + a.Stem() + "_" + std::to_string(a.sim.Frame()) + ".png";
     if (Status s = a.WriteScreenshot(path)) {
       a.screenshot = *s;
       a.runError = s->Format();
@@ -918,6 +925,12 @@ void App::RequestFullscreen(bool fullscreen) {
 void App::RequestScreenshot(const std::string& path) {
   m_impl->pending.screenshot = path;
 }
+void App::RequestParams(const LevelParams& params) {
+  m_impl->pending.params = params;
+}
+std::string App::ChangedParamsToml() const {
+  return m_impl->ChangedToml();
+}
 void App::RequestRecording(bool on) {
   m_impl->pending.recording = on;
 }
@@ -936,6 +949,12 @@ const cv::Mat& App::picture() const {
 }
 const std::string& App::loadError() const {
   return m_impl->loadError;
+}
+const std::string& App::runError() const {
+  return m_impl->runError;
+}
+bool App::noInput() const {
+  return m_impl->noInput;
 }
 const Result<std::string>& App::screenshotStatus() const {
   return m_impl->screenshot;

@@ -114,15 +114,19 @@ TEST_F(AppTest, MousePinchGraspsAndDragMovesTheBox) {
   // drag 8 cm to the right over a second, then hold still
   const cv::Point target(map.ToDisplay(start + Vec2(8, 0)));
   constexpr int kSteps = 60;
+  int heldFrames = 0;
   for (int i = 1; i <= kSteps; ++i) {
     PushMotion(app, centre + (target - centre) * i / kSteps, SDL_BUTTON_RMASK);
     ASSERT_TRUE(app.Tick());
+    heldFrames += Box(app).held ? 1 : 0;
   }
+  // the physics calls it held (opposing contacts, not slipping) through nearly all of the drag
+  EXPECT_GE(heldFrames, 50) << "of " << kSteps;
   for (int i = 0; i < 20; ++i) ASSERT_TRUE(app.Tick());
   const Vec2 moved = Box(app).pose.pos;
-  // the grasped box follows the pinch: at least half of the 8 cm drag (the fingers may slip a
-  // little and their particles sit outside the sides), and not sideways
-  EXPECT_GT(moved.x() - start.x(), 4.0) << "box at " << moved.transpose();
+  // the held box follows the pinch through the 8 cm drag; 2 cm of slack for slipping while the
+  // drag starts, and no more than the drag plus the squeeze's 1 cm give
+  EXPECT_GT(moved.x() - start.x(), 6.0) << "box at " << moved.transpose();
   EXPECT_LT(moved.x() - start.x(), 9.0) << "box at " << moved.transpose();
   EXPECT_NEAR(moved.y(), start.y(), 1.5);
 
@@ -263,6 +267,37 @@ TEST_F(AppTest, KeysQueueRequestsAppliedBetweenFrames) {
   EXPECT_FALSE(app.Tick());
 }
 
+TEST_F(AppTest, ParameterChangesRestartTheRunAndCopyAsToml) {
+  App app;
+  ASSERT_FALSE(app.Open(Options(kTestData + "/box_goal.toml", "script")));
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(app.Tick());
+  EXPECT_NE(app.ChangedParamsToml().find("# no parameter differs"), std::string::npos);
+
+  LevelParams params = app.simulation().params();
+  params.physics.substeps = 6;
+  params.proxies.mode = ProxyMode::kInstant;
+  app.RequestParams(params);
+  ASSERT_TRUE(app.Tick());
+  // the run restarted with them: one frame since
+  EXPECT_EQ(app.simulation().Frame(), 1);
+  EXPECT_EQ(app.simulation().params().physics.substeps, 6);
+  EXPECT_EQ(app.simulation().params().proxies.mode, ProxyMode::kInstant);
+  const std::string toml = app.ChangedParamsToml();
+  EXPECT_NE(toml.find("[physics]\nsubsteps = 6\n"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("[proxies]\nmode = \"instant\"\n"), std::string::npos) << toml;
+  // only what changed
+  EXPECT_EQ(toml.find("frame_rate"), std::string::npos) << toml;
+
+  // the pipeline rejects more than 16 layers: the running parameters stay
+  LevelParams bad = app.simulation().params();
+  bad.physics.layers = 40;
+  app.RequestParams(bad);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_EQ(app.simulation().params().physics.layers, 8);
+  EXPECT_EQ(app.simulation().Frame(), 2);
+  EXPECT_NE(app.runError(), "");
+}
+
 TEST_F(AppTest, RecordsInputAndTrace) {
   App app;
   const AppOptions options = Options(kTestData + "/box_goal.toml", "script");
@@ -281,7 +316,46 @@ TEST_F(AppTest, RecordsInputAndTrace) {
   int lines = 0;
   for (std::string line; std::getline(frames, line);) ++lines;
   EXPECT_EQ(lines, 1 + 10);
+}
+
+TEST_F(AppTest, ReplaysARecordingThroughThePipeline) {
+  // record 20 frames of the script, then play them back as a video input
+  AppOptions options = Options(kTestData + "/box_goal.toml", "script");
+  std::string dir;
+  {
+    App app;
+    ASSERT_FALSE(app.Open(options));
+    app.RequestRecording(true);
+    for (int i = 0; i < 20; ++i) ASSERT_TRUE(app.Tick());
+    app.RequestRecording(false);
+    ASSERT_TRUE(app.Tick());
+    dir = app.recordingDir();
+  }
+  options.input = "video:" + dir + "/input.mkv";
+  App replay;
+  ASSERT_FALSE(replay.Open(options));
+  EXPECT_EQ(replay.input(), InputKind::kVideo);
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(replay.Tick());
+  // the recorded fingertip is sensed again: one contact, with particles
+  EXPECT_EQ(replay.simulation().Frame(), 10);
+  EXPECT_EQ(replay.simulation().stats().contacts, 1);
+  EXPECT_GT(replay.simulation().stats().particles, 5);
+  EXPECT_EQ(replay.runError(), "");
   std::filesystem::remove_all(options.outDir);
+}
+
+TEST_F(AppTest, AMissingCameraShowsNoInputAndKeepsRunning) {
+  App app;
+  // no camera 9 on any test machine: the app opens anyway and retries
+  ASSERT_FALSE(app.Open(Options(kTestData + "/box_goal.toml", "camera:9")));
+  EXPECT_EQ(app.input(), InputKind::kCamera);
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(app.Tick());
+  EXPECT_TRUE(app.noInput());
+  EXPECT_NE(app.runError().find("camera"), std::string::npos) << app.runError();
+  EXPECT_EQ(app.simulation().Frame(), 0);
+  // the picture still shows the level and the error
+  EXPECT_GT(test::FindColor(app.picture(), view_colors::Object(0), 12).count, 1000);
+  EXPECT_GT(test::FindColor(app.picture(), view_colors::kError, 30).count, 50);
 }
 
 }  // namespace

@@ -67,6 +67,12 @@ class App {
   /// Writes the presented window (drawing and UI) to a PNG at the next Tick; "" picks
   /// outDir/<level>_<frame>.png. The outcome is in screenshotStatus() after that Tick.
   void RequestScreenshot(const std::string& path = "");
+  /// Runs the level with these parameters from the next Tick (what a finished panel edit does):
+  /// the run restarts; parameters the pipeline rejects keep the running ones and set runError().
+  void RequestParams(const LevelParams& params);
+  /// The parameters that differ from the level file's, as TOML tables (what "Copy as TOML" puts
+  /// on the clipboard); a comment line when none differ.
+  std::string ChangedParamsToml() const;
   /// Starts or stops recording the raw input frames (lossless .mkv) and the run's trace.
   void RequestRecording(bool on);
 
@@ -80,6 +86,10 @@ class App {
   const cv::Mat& picture() const;
   /// The last reload's or start's error (file:line:col: message), "" when the level loaded.
   const std::string& loadError() const;
+  /// The input's or the pipeline's last error (a lost camera, a rejected frame), "" when none.
+  const std::string& runError() const;
+  /// True while a camera or video source delivers nothing (the app retries every second).
+  bool noInput() const;
   /// The last screenshot's path, or its error.
   const Result<std::string>& screenshotStatus() const;
   /// What drives the pipeline now.
