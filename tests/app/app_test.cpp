@@ -152,6 +152,34 @@ TEST_F(AppTest, LeftDragPushesTheBox) {
   EXPECT_GT(Box(app).pose.pos.x() - 30.0, 2.0) << Box(app).pose.pos.transpose();
 }
 
+TEST_F(AppTest, TouchFingersAreFingertips) {
+  App app;
+  ASSERT_FALSE(app.Open(Options(kTestData + "/box_only.toml", "touch")));
+  ASSERT_EQ(app.input(), InputKind::kTouch);
+  ASSERT_TRUE(app.Tick());
+  const cv::Point2d at = app.displayMap().ToDisplay({12, 30});
+  const cv::Size size = app.picture().size();
+  // touch positions are fractions of the window
+  SDL_Event e{};
+  e.type = SDL_FINGERDOWN;
+  e.tfinger.touchId = 1;
+  e.tfinger.fingerId = 5;
+  e.tfinger.x = static_cast<float>(at.x / size.width);
+  e.tfinger.y = static_cast<float>(at.y / size.height);
+  e.tfinger.pressure = 1.0f;
+  ASSERT_EQ(SDL_PushEvent(&e), 1);
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(app.Tick());
+  ASSERT_EQ(app.simulation().shapes().size(), 1u);
+  // a float's precision of a window fraction: well under a pixel (0.06 cm here)
+  EXPECT_NEAR(app.simulation().shapes()[0].pose.pos.x(), 12.0, 0.06);
+  EXPECT_NEAR(app.simulation().shapes()[0].pose.pos.y(), 30.0, 0.06);
+  EXPECT_EQ(app.simulation().stats().contacts, 1);
+  e.type = SDL_FINGERUP;
+  ASSERT_EQ(SDL_PushEvent(&e), 1);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_TRUE(app.simulation().shapes().empty());
+}
+
 TEST_F(AppTest, ReloadsAValidEditAndKeepsTheLevelOnABrokenOne) {
   // a copy of the level to edit
   const std::filesystem::path dir =
