@@ -27,10 +27,10 @@ function(proxygrasp_module name)
   target_link_libraries(pg_${name} PUBLIC ${ARG_DEPS} PRIVATE proxygrasp_options)
 endfunction()
 
-# proxygrasp_test(module name [LIBS ...]): builds tests/<module>/<name>_test.cpp into one GoogleTest
+# proxygrasp_test(module name [LIBS ...] [ENVIRONMENT VAR=value ...]): builds tests/<module>/<name>_test.cpp into one GoogleTest
 # executable and registers each of its tests with CTest, labelled with the module.
 function(proxygrasp_test module name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT" "LIBS;ENVIRONMENT" ${ARGN})
   set(target test_${module}_${name})
   add_executable(${target} ${CMAKE_CURRENT_SOURCE_DIR}/${module}/${name}_test.cpp)
   if(TARGET pg_${module})
@@ -48,8 +48,12 @@ function(proxygrasp_test module name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
   endif()
+  set(extra_properties)
+  if(ARG_ENVIRONMENT)
+    set(extra_properties ENVIRONMENT "${ARG_ENVIRONMENT}")
+  endif()
   gtest_discover_tests(${target} DISCOVERY_MODE PRE_TEST
-                       PROPERTIES LABELS ${module} TIMEOUT ${ARG_TIMEOUT})
+                       PROPERTIES LABELS ${module} TIMEOUT ${ARG_TIMEOUT} ${extra_properties})
 endfunction()
 
 # proxygrasp_bench(name LIBS ...): builds tests/bench/<name>_bench.cpp with Google Benchmark into

@@ -1,18 +1,175 @@
-// `proxygrasp play`: registered so --help lists it; issue #7 builds it.
+// `proxygrasp play`: plays a level in a window on the table (or full screen on the projector).
+// Without a display it runs the level headless and writes a video and a PNG instead.
 #include "commands.h"
 
+#include "proxygrasp/app/app.h"
+#include "proxygrasp/app/video.h"
+#include "proxygrasp/level/runner.h"
+
+#include <SDL.h>
+
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 namespace pg {
 
+namespace {
+
+struct PlayArgs {
+  std::string level;
+  std::string input;
+  std::vector<std::string> sets;
+  bool fullscreen = false;
+  int display = 0;
+  int64_t frames = -1;
+  std::string screenshot;
+  std::string size = "1280x960";
+  std::string outDir = "out";
+  std::string show;
+};
+
+// the default level from the working directory, or from the source tree the executable was
+// built in (build/<preset>/proxygrasp)
+std::string DefaultLevel() {
+  namespace fs = std::filesystem;
+  if (fs::exists(kDefaultLevel)) return kDefaultLevel;
+  std::error_code ec;
+  const fs::path exe = fs::canonical("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path candidate = exe.parent_path().parent_path().parent_path() / kDefaultLevel;
+    if (fs::exists(candidate)) return candidate.string();
+  }
+  return kDefaultLevel;
+}
+
+// true when SDL can open its video subsystem: a display is there
+bool HaveDisplay() {
+  const char* x11 = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  const char* driver = std::getenv("SDL_VIDEODRIVER");
+  const bool any = (x11 && *x11) || (wayland && *wayland) || (driver && *driver);
+  if (!any) return false;
+  if (SDL_Init(SDL_INIT_VIDEO) != 0) {
+    std::cerr << "proxygrasp play: no display (" << SDL_GetError() << ")\n";
+    return false;
+  }
+  SDL_Quit();
+  return true;
+}
+
+// no display: the level's script, drawn into out/<level>.mp4 and out/<level>.png
+int PlayHeadless(const PlayArgs& args, Level level) {
+  const std::string stem = std::filesystem::path(level.path).stem().string();
+  VideoOptions video;
+  video.videoPath = args.outDir + "/" + stem + ".mp4";
+  video.pngPath = args.outDir + "/" + stem + ".png";
+  if (Status s = ParseViewOptions(args.show, video.view)) {
+    std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
+    return kExitBadInput;
+  }
+  RunOptions options;
+  options.frames = args.frames;
+  std::cout << "proxygrasp play: no display; running " << level.path << " headless\n";
+  Result<LevelResult> result = RunLevelToVideo(level, options, video);
+  if (!result.ok()) {
+    std::cerr << result.error().Format() << "\n";
+    return kExitBadInput;
+  }
+  std::cout << FormatReport(level, result.value());
+  std::cout << "video: " << video.videoPath << "\npicture: " << video.pngPath << "\n";
+  return kExitOk;
+}
+
+int Play(const PlayArgs& args) {
+  PlayArgs a = args;
+  if (a.level.empty()) a.level = DefaultLevel();
+
+  // the level is checked first, so a bad file is reported the same with or without a display
+  Result<Level> level = LoadLevel(a.level);
+  if (!level.ok()) {
+    std::cerr << level.error().Format() << "\n";
+    return kExitBadInput;
+  }
+  for (const std::string& set : a.sets) {
+    const size_t eq = set.find('=');
+    Status s = eq == std::string::npos
+                   ? MakeError({}, "expected section.key=value")
+                   : SetLevelParam(level.value(), set.substr(0, eq), set.substr(eq + 1));
+    if (s) {
+      std::cerr << "proxygrasp play: --set " << set << ": " << s->Format() << "\n";
+      return kExitBadInput;
+    }
+  }
+  if (!HaveDisplay()) return PlayHeadless(a, std::move(level.value()));
+
+  AppOptions options;
+  options.level = a.level;
+  options.sets = a.sets;
+  options.input = a.input;
+  options.fullscreen = a.fullscreen;
+  options.display = a.display;
+  options.outDir = a.outDir;
+  if (Status s = ParseViewOptions(a.show, options.view)) {
+    std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
+    return kExitBadInput;
+  }
+  // a fixed number of frames runs as fast as it can (tests, screenshots)
+  options.realtime = a.frames < 0;
+  int w = 0;
+  int h = 0;
+  if (std::sscanf(a.size.c_str(), "%dx%d", &w, &h) != 2 || w < 64 || h < 64) {
+    std::cerr << "proxygrasp play: --size " << a.size << ": expected WxH, each at least 64\n";
+    return kExitBadInput;
+  }
+  options.windowSize = {w, h};
+
+  App app;
+  if (Status s = app.Open(options)) {
+    std::cerr << "proxygrasp play: " << s->Format() << "\n";
+    return kExitBadInput;
+  }
+  for (int64_t i = 0; a.frames < 0 || i < a.frames; ++i) {
+    if (!a.screenshot.empty() && i == a.frames - 1) app.RequestScreenshot(a.screenshot);
+    if (!app.Tick()) break;
+  }
+  if (!a.screenshot.empty()) {
+    const Result<std::string>& shot = app.screenshotStatus();
+    if (!shot.ok()) {
+      std::cerr << "proxygrasp play: " << shot.error().Format() << "\n";
+      return kExitFailed;
+    }
+    std::cout << "screenshot: " << shot.value() << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
 void AddPlayCommand(CLI::App& app, int& exitCode) {
-  CLI::App* cmd =
-      app.add_subcommand("play", "Play a level in a window on the table (not built yet)");
-  cmd->allow_extras();
-  cmd->callback([&exitCode] {
-    std::cerr << "proxygrasp play: not built yet (issue #7)\n";
-    exitCode = kExitFailed;
-  });
+  CLI::App* cmd = app.add_subcommand(
+      "play", "Play a level in a window on the table (headless video and PNG without a display)");
+  // CLI11 binds options by reference, so they live as long as the program
+  static PlayArgs args;
+  cmd->add_option("level", args.level, std::string("Level file (TOML); default ") + kDefaultLevel)
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--input", args.input,
+                  "camera:N, video:FILE, script, mouse or touch (default: camera 0 when it "
+                  "opens, else the mouse)");
+  cmd->add_option("--set", args.sets, "Override a parameter: section.key=value (repeatable)");
+  cmd->add_flag("--fullscreen", args.fullscreen, "Full screen on --display (the projector)");
+  cmd->add_option("--display", args.display, "Display index for the window")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--frames", args.frames,
+                  "Stop after this many frames (default: run until closed)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--screenshot", args.screenshot, "Save the window as a PNG after the last frame")
+      ->needs("--frames");
+  cmd->add_option("--size", args.size, "Window size WxH in pixels (default 1280x960)");
+  cmd->add_option("--show", args.show,
+                  "Overlays at start: forces,successors,camera,help,nohud,layer=N");
+  cmd->add_option("--out", args.outDir, "Folder for screenshots, recordings and headless output");
+  cmd->callback([&exitCode] { exitCode = Play(args); });
 }
 
 }  // namespace pg

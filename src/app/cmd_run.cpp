@@ -1,6 +1,7 @@
 // `proxygrasp run`: runs levels headless through the whole pipeline and checks their expectations.
 #include "commands.h"
 
+#include "proxygrasp/app/video.h"
 #include "proxygrasp/level/runner.h"
 
 #include <iostream>
@@ -17,6 +18,9 @@ struct RunArgs {
   std::string record;
   int64_t frames = -1;
   bool profile = false;
+  std::string video;  // draw the first run into this video (one level only)
+  std::string png;    // and one frame of it into this PNG
+  std::string show;   // overlays of the drawing
 };
 
 int RunLevels(const RunArgs& args) {
@@ -30,6 +34,11 @@ int RunLevels(const RunArgs& args) {
   }
   if (!args.mode.empty()) {
     options.mode = args.mode == "instant" ? ProxyMode::kInstant : ProxyMode::kPersistent;
+  }
+
+  if ((!args.video.empty() || !args.png.empty()) && args.levels.size() != 1) {
+    std::cerr << "proxygrasp run: --video and --png take exactly one level\n";
+    return kExitBadInput;
   }
 
   // load and override every level first, so a bad file or --set stops before anything runs
@@ -60,12 +69,23 @@ int RunLevels(const RunArgs& args) {
     if (!options.traceDir.empty() && levels.size() > 1) {
       levelOptions.traceDir += "/" + level.name;
     }
-    Result<LevelResult> result = RunLevel(level, levelOptions);
+    VideoOptions video;
+    video.videoPath = args.video;
+    video.pngPath = args.png;
+    if (Status s = ParseViewOptions(args.show, video.view)) {
+      std::cerr << "proxygrasp run: --show: " << s->Format() << "\n";
+      return kExitBadInput;
+    }
+    Result<LevelResult> result = (args.video.empty() && args.png.empty())
+                                     ? RunLevel(level, levelOptions)
+                                     : RunLevelToVideo(level, levelOptions, video);
     if (!result.ok()) {
       std::cerr << result.error().Format() << "\n";
       return kExitBadInput;
     }
     std::cout << FormatReport(level, result.value());
+    if (!args.video.empty()) std::cout << "video: " << args.video << "\n";
+    if (!args.png.empty()) std::cout << "picture: " << args.png << "\n";
     if (args.profile) std::cout << FormatProfile(result.value());
     allPassed = allPassed && result.value().Passed();
   }
@@ -88,6 +108,11 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--trace", args.traceDir, "Write objects.csv and frames.csv into this folder");
   cmd->add_option("--frames", args.frames, "Frames per run (default: the script's duration)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--video", args.video,
+                  "Draw the first run, as play draws it, into this video (.mp4: mp4v)");
+  cmd->add_option("--png", args.png, "Save the frame at 60% of the first run as this PNG");
+  cmd->add_option("--show", args.show,
+                  "Overlays of --video and --png: forces,successors,camera,nohud,layer=N");
   cmd->add_flag("--profile", args.profile, "Print median and p99 milliseconds per stage");
   cmd->add_option("--record", args.record,
                   "Record the first run's camera frames to FILE (lossless .mkv) and its trace "

@@ -1,0 +1,147 @@
+// `proxygrasp play` as a user runs it: in a window on a private X server for a number of frames
+// with a screenshot, and with no display at all (headless video and PNG).
+#include "pixels.h"
+#include "run_command.h"
+#include "xvfb.h"
+
+#include "proxygrasp/app/table_view.h"
+#include "proxygrasp/level/level.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <filesystem>
+
+namespace pg {
+namespace {
+
+const std::string kLevel = std::string(PROXYGRASP_TESTDATA_DIR) + "/box_goal.toml";
+constexpr int kColorTolerance = 12;  // per channel; antialiased edges blend, interiors are exact
+
+// runs proxygrasp through env(1) with these environment changes ("-u NAME", "NAME=value")
+test::CommandResult RunWithEnv(const std::string& env, const std::string& args) {
+  test::CommandResult result;
+  const std::string command = "env " + env + " " + PROXYGRASP_BIN + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  for (size_t n; (n = fread(buffer, 1, sizeof(buffer), pipe)) > 0;) result.output.append(buffer, n);
+  const int status = pclose(pipe);
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+std::string TempDir(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("pg_play_" + std::to_string(getpid()) + "_" + name);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+TEST(PlayCommand, ScreenshotShowsObjectsParticlesAndTheGoal) {
+  if (!std::filesystem::exists(test::kXvfb)) GTEST_SKIP() << "Xvfb is not installed";
+  test::Xvfb xvfb;
+  ASSERT_TRUE(xvfb.Start());
+  const std::string dir = TempDir("shot");
+  const std::string shot = dir + "/shot.png";
+  constexpr int kFrames = 30;
+  const test::CommandResult r =
+      RunWithEnv("-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
+                 "play " + kLevel + " --input script --frames " + std::to_string(kFrames) +
+                     " --screenshot " + shot + " --size 800x600 --out " + dir);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("screenshot: " + shot), std::string::npos) << r.output;
+
+  const cv::Mat picture = cv::imread(shot);
+  ASSERT_FALSE(picture.empty());
+  ASSERT_EQ(picture.size(), cv::Size(800, 600));
+  Result<Level> level = LoadLevel(kLevel);
+  ASSERT_TRUE(level.ok());
+  const DisplayMap map = DisplayMap::Fit(level.value().params.table, picture.size());
+  const double ppcm = map.PixelsPerCm({30, 23});
+
+  // the box, untouched, where the level puts it: 6 x 6 cm at (30, 23)
+  const test::ColorPixels box = test::FindColor(picture, view_colors::Object(0), kColorTolerance);
+  EXPECT_GT(box.count, 0.9 * 36 * ppcm * ppcm);
+  EXPECT_LT(box.count, 1.02 * 36 * ppcm * ppcm);
+  const Vec2 boxAt = map.ToTable(box.centroid - cv::Point2d(0.5, 0.5));
+  // 0.15 cm is 2 px here: more than the outline and the turn tick move the centroid
+  EXPECT_NEAR(boxAt.x(), 30.0, 0.15);
+  EXPECT_NEAR(boxAt.y(), 23.0, 0.15);
+
+  // the fingertip's particles: a ring about the scripted position at the last frame's time,
+  // x = 10 + 5 cm/s * (kFrames - 1) / 60 s, y = 10
+  const test::ColorPixels particles =
+      test::FindColor(picture, view_colors::Layer(0), kColorTolerance);
+  ASSERT_GT(particles.count, 20);
+  const Vec2 fingerAt = map.ToTable(particles.centroid - cv::Point2d(0.5, 0.5));
+  const double fingerX = 10.0 + 5.0 * (kFrames - 1) / 60.0;
+  // an evenly sampled ring's centroid is its centre; noise and a frame's motion stay within 0.3
+  EXPECT_NEAR(fingerAt.x(), fingerX, 0.3);
+  EXPECT_NEAR(fingerAt.y(), 10.0, 0.3);
+
+  // the goal zone's outline, [45, 55] x [30, 40] cm
+  const test::ColorPixels goal = test::FindColor(picture, view_colors::kGoal, kColorTolerance);
+  const cv::Point2d lo = map.ToDisplay({45, 30});
+  const cv::Point2d hi = map.ToDisplay({55, 40});
+  EXPECT_NEAR(goal.bounds.x, lo.x, 2.5);
+  EXPECT_NEAR(goal.bounds.x + goal.bounds.width, hi.x, 2.5);
+  EXPECT_NEAR(goal.bounds.y, hi.y, 2.5);
+  EXPECT_NEAR(goal.bounds.y + goal.bounds.height, lo.y, 2.5);
+  EXPECT_GT(goal.count, 4 * 10 * ppcm);
+
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PlayCommand, WithoutADisplayWritesAVideoAndAPng) {
+  const std::string dir = TempDir("headless");
+  const test::CommandResult r = RunWithEnv("-u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER",
+                                           "play " + kLevel + " --frames 12 --out " + dir);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const std::string video = dir + "/box_goal.mp4";
+  const std::string png = dir + "/box_goal.png";
+  EXPECT_NE(r.output.find("video: " + video), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("picture: " + png), std::string::npos) << r.output;
+  cv::VideoCapture capture(video);
+  ASSERT_TRUE(capture.isOpened());
+  int frames = 0;
+  for (cv::Mat frame; capture.read(frame);) ++frames;
+  EXPECT_EQ(frames, 12);
+  EXPECT_FALSE(cv::imread(png).empty());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PlayCommand, ABadLevelIsReportedWithItsLocation) {
+  const std::string dir = TempDir("bad");
+  const std::string path = dir + "/bad.toml";
+  {
+    FILE* f = std::fopen(path.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fputs("[physics]\nsubstep = 4\n", f);
+    std::fclose(f);
+  }
+  const test::CommandResult r = test::RunProxygrasp("play " + path + " --frames 1");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find(path + ":2:1:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("did you mean 'substeps'"), std::string::npos) << r.output;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(RunCommand, VideoOptionDrawsTheRun) {
+  const std::string dir = TempDir("run");
+  const test::CommandResult r = test::RunProxygrasp("run " + kLevel + " --frames 6 --video " + dir +
+                                                    "/out.mp4 --png " + dir + "/out.png");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("video: " + dir + "/out.mp4"), std::string::npos) << r.output;
+  cv::VideoCapture capture(dir + "/out.mp4");
+  ASSERT_TRUE(capture.isOpened());
+  int frames = 0;
+  for (cv::Mat frame; capture.read(frame);) ++frames;
+  EXPECT_EQ(frames, 6);
+  EXPECT_FALSE(cv::imread(dir + "/out.png").empty());
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pg

@@ -1,0 +1,255 @@
+// The table view draws into a cv::Mat without any window: objects, particles, contours and goals
+// land where the level puts them, and the overlays appear when asked.
+#include "proxygrasp/app/table_view.h"
+
+#include "pixels.h"
+
+#include "proxygrasp/core/units.h"
+#include "proxygrasp/level/script.h"
+#include "proxygrasp/sensing/calibration.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace pg {
+namespace {
+
+using test::FindColor;
+
+// per-channel colour tolerance: antialiased edges blend, interiors are exact
+constexpr int kColorTolerance = 12;
+
+const std::string kLevel = std::string(PROXYGRASP_TESTDATA_DIR) + "/box_goal.toml";
+
+Level LoadTestLevel() {
+  Result<Level> level = LoadLevel(kLevel);
+  EXPECT_TRUE(level.ok()) << (level.ok() ? "" : level.error().Format());
+  return level.ok() ? level.value() : Level{};
+}
+
+TEST(DisplayMap, FitsTheTableCentredWithYUp) {
+  TableParams table;  // 61 x 46 cm
+  const DisplayMap map = DisplayMap::Fit(table, {1024, 768}, 8);
+  // the height limits: (768 - 16) / 46 px per cm; the width is centred
+  const double scale = 752.0 / 46.0;
+  const double left = 0.5 * (1024 - scale * 61.0);
+  const cv::Point2d origin = map.ToDisplay({0, 0});
+  const cv::Point2d far = map.ToDisplay({61, 46});
+  EXPECT_NEAR(origin.x, left, 1e-9);
+  EXPECT_NEAR(origin.y, 8 + 752, 1e-9);
+  EXPECT_NEAR(far.x, left + scale * 61.0, 1e-9);
+  EXPECT_NEAR(far.y, 8, 1e-9);
+  EXPECT_NEAR(map.PixelsPerCm({30, 20}), scale, 1e-9);
+  // the inverse maps back (round-off only)
+  const Vec2 back = map.ToTable(map.ToDisplay({12.5, 33.25}));
+  EXPECT_NEAR(back.x(), 12.5, 1e-9);
+  EXPECT_NEAR(back.y(), 33.25, 1e-9);
+}
+
+TEST(DisplayMap, UsesTheCalibrationFileWhenTheLevelNamesOne) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("pg_view_calib_" + std::to_string(getpid()) + ".yaml"))
+                               .string();
+  Calibration calibration = LinearCalibration({640, 480}, TableParams{});
+  calibration.tableToDisplay = cv::Matx33d(10, 0, 50, 0, -10, 600, 0, 0, 1);
+  ASSERT_FALSE(SaveCalibration(path, calibration));
+  LevelParams params;
+  params.sensing.calibration = path;
+  Result<DisplayMap> map = LevelDisplayMap(params, {1024, 768});
+  ASSERT_TRUE(map.ok()) << map.error().Format();
+  const cv::Point2d p = map.value().ToDisplay({3, 4});
+  EXPECT_NEAR(p.x, 80, 1e-9);
+  EXPECT_NEAR(p.y, 560, 1e-9);
+  std::filesystem::remove(path);
+
+  params.sensing.calibration = path;  // now missing
+  Result<DisplayMap> missing = LevelDisplayMap(params, {1024, 768});
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().Format().find(path), std::string::npos) << missing.error().Format();
+}
+
+TEST(GoalProgress, IsTheFractionOfDistanceAndAngleCovered) {
+  Goal zone;
+  zone.object = "box";
+  Region circle;
+  circle.kind = Region::Kind::kCircle;
+  circle.center = Vec2(10, 0);
+  circle.radius = 2.0;
+  zone.zone = circle;
+  // start 8 cm from the zone's edge, now 4: half way
+  EXPECT_NEAR(GoalProgress(zone, {{0, 0}, 0}, {{4, 0}, 0}), 0.5, 1e-12);
+  EXPECT_DOUBLE_EQ(GoalProgress(zone, {{0, 0}, 0}, {{9, 0}, 0}), 1.0);
+  EXPECT_DOUBLE_EQ(GoalProgress(zone, {{0, 0}, 0}, {{-3, 0}, 0}), 0.0);
+
+  Goal turn;
+  turn.object = "dial";
+  turn.angle = DegToRad(90);
+  turn.tolerance = DegToRad(10);
+  // 90 deg off at the start, 50 now: (50 - 10) of (90 - 10) left, half way
+  EXPECT_NEAR(GoalProgress(turn, {{0, 0}, 0}, {{0, 0}, DegToRad(40)}), 0.5, 1e-12);
+  // a full turn further is the same angle
+  EXPECT_DOUBLE_EQ(GoalProgress(turn, {{0, 0}, 0}, {{0, 0}, DegToRad(90 + 360)}), 1.0);
+
+  // both: the smaller
+  Goal both = zone;
+  both.angle = turn.angle;
+  both.tolerance = turn.tolerance;
+  EXPECT_NEAR(GoalProgress(both, {{0, 0}, 0}, {{9, 0}, DegToRad(40)}), 0.5, 1e-12);
+}
+
+TEST(ViewOptions, ParsesAListOfOverlays) {
+  ViewOptions options;
+  ASSERT_FALSE(ParseViewOptions("forces,successors,camera,layer=2,nohud", options));
+  EXPECT_TRUE(options.forces);
+  EXPECT_TRUE(options.successors);
+  EXPECT_TRUE(options.cameraImage);
+  EXPECT_FALSE(options.hud);
+  EXPECT_EQ(options.layer, 2);
+  ASSERT_FALSE(ParseViewOptions("", options));
+  const Status bad = ParseViewOptions("forces,frcs", options);
+  ASSERT_TRUE(bad);
+  EXPECT_NE(bad->message.find("unknown view 'frcs'"), std::string::npos) << bad->message;
+  EXPECT_TRUE(ParseViewOptions("layer=x", options));
+}
+
+class TableViewTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    level = LoadTestLevel();
+    ASSERT_FALSE(sim.Start(level, level.params));
+    for (int i = 0; i < kFrames; ++i) ASSERT_FALSE(sim.StepScript());
+    map = DisplayMap::Fit(level.params.table, kSize);
+  }
+
+  static constexpr int kFrames = 30;
+  const cv::Size kSize{1024, 768};
+  Level level;
+  Simulation sim;
+  DisplayMap map;
+};
+
+TEST_F(TableViewTest, DrawsTheBoxWhereTheLevelPutsIt) {
+  TableView view;
+  const cv::Mat picture = view.Draw(sim, map, kSize, {});
+  ASSERT_EQ(picture.size(), kSize);
+  ASSERT_EQ(picture.type(), CV_8UC3);
+
+  // the top slice is the object's full colour
+  const test::ColorPixels box = FindColor(picture, view_colors::Object(0), kColorTolerance);
+  const double ppcm = map.PixelsPerCm({30, 23});
+  const double expected = 36.0 * ppcm * ppcm;  // 6 x 6 cm
+  // the outline (1 px of a darker shade) and the turn tick take a few percent off the area
+  EXPECT_GT(box.count, 0.9 * expected);
+  EXPECT_LT(box.count, 1.02 * expected);
+  const Vec2 centre = map.ToTable(box.centroid - cv::Point2d(0.5, 0.5));
+  // nothing touched the box; 0.1 cm is 1.6 px, more than the tick's pull on the centroid
+  EXPECT_NEAR(centre.x(), 30.0, 0.1);
+  EXPECT_NEAR(centre.y(), 23.0, 0.1);
+}
+
+TEST_F(TableViewTest, DrawsParticlesAroundTheFinger) {
+  TableView view;
+  const cv::Mat picture = view.Draw(sim, map, kSize, {});
+  // the finger's particles sit in layer 0 on its contour, a ring around the scripted position
+  const test::ColorPixels particles = FindColor(picture, view_colors::Layer(0), kColorTolerance);
+  ASSERT_GT(particles.count, 50);
+  const std::vector<ContactShape> shapes = ShapesAt(level.script, sim.Time() - sim.FrameDuration());
+  ASSERT_EQ(shapes.size(), 1u);
+  const Vec2 finger = shapes[0].pose.pos;
+  const Vec2 centre = map.ToTable(particles.centroid - cv::Point2d(0.5, 0.5));
+  // an evenly sampled ring's centroid is its centre; sensing noise and one frame of motion
+  // (0.08 cm) stay well inside 0.3 cm
+  EXPECT_NEAR(centre.x(), finger.x(), 0.3);
+  EXPECT_NEAR(centre.y(), finger.y(), 0.3);
+  // and they stay within the finger's reach: radius 0.8 cm plus a particle and a pixel
+  const cv::Point2d a = map.ToDisplay(finger + Vec2(-1.4, 1.4));
+  const cv::Point2d b = map.ToDisplay(finger + Vec2(1.4, -1.4));
+  EXPECT_TRUE(cv::Rect(cv::Point(a), cv::Point(b)).contains(particles.bounds.tl()));
+  EXPECT_TRUE(cv::Rect(cv::Point(a), cv::Point(b)).contains(particles.bounds.br()));
+  // the contour of the contact is drawn too
+  EXPECT_GT(FindColor(picture, view_colors::kContour, kColorTolerance).count, 30);
+}
+
+TEST_F(TableViewTest, DrawsTheGoalZone) {
+  TableView view;
+  const cv::Mat picture = view.Draw(sim, map, kSize, {});
+  const test::ColorPixels goal = FindColor(picture, view_colors::kGoal, kColorTolerance);
+  const cv::Point2d lo = map.ToDisplay({45, 30});
+  const cv::Point2d hi = map.ToDisplay({55, 40});
+  // a 2 px outline: its bounds are the zone's to within the line width
+  EXPECT_NEAR(goal.bounds.x, lo.x, 2.5);
+  EXPECT_NEAR(goal.bounds.x + goal.bounds.width, hi.x, 2.5);
+  EXPECT_NEAR(goal.bounds.y, hi.y, 2.5);
+  EXPECT_NEAR(goal.bounds.y + goal.bounds.height, lo.y, 2.5);
+  // four sides of ~10 cm at 2 px
+  EXPECT_GT(goal.count, 4 * 10 * map.PixelsPerCm({50, 35}));
+  // the box is far from the zone: the goal is not met
+  EXPECT_EQ(FindColor(picture, view_colors::kGoalMet, kColorTolerance).count, 0);
+}
+
+TEST_F(TableViewTest, TableAndOutsideHaveTheirColours) {
+  TableView view;
+  const cv::Mat picture = view.Draw(sim, map, kSize, {});
+  const cv::Point empty(map.ToDisplay({50, 8}));
+  EXPECT_EQ(picture.at<cv::Vec3b>(empty), cv::Vec3b(38, 34, 30));
+  EXPECT_EQ(picture.at<cv::Vec3b>(kSize.height / 2, 2), cv::Vec3b(12, 12, 12));
+}
+
+TEST_F(TableViewTest, OneLayerHidesTheOthers) {
+  TableView view;
+  ViewOptions options;
+  options.layer = 5;  // the box fills layers 0..2 and the finger's stacks layer 0
+  const cv::Mat picture = view.Draw(sim, map, kSize, options);
+  EXPECT_EQ(FindColor(picture, view_colors::Object(0), kColorTolerance).count, 0);
+  EXPECT_EQ(FindColor(picture, view_colors::Layer(0), kColorTolerance).count, 0);
+  options.layer = 0;
+  const cv::Mat layer0 = view.Draw(sim, map, kSize, options);
+  // the bottom slice is darker than the top; particles of layer 0 are shown
+  EXPECT_EQ(FindColor(layer0, view_colors::Object(0), kColorTolerance).count, 0);
+  EXPECT_GT(FindColor(layer0, view_colors::Object(0) * (0.35 + 0.65 / 3), kColorTolerance).count,
+            1000);
+  EXPECT_GT(FindColor(layer0, view_colors::Layer(0), kColorTolerance).count, 50);
+}
+
+TEST_F(TableViewTest, SuccessorLinksJoinLastAndNextPositions) {
+  TableView view;
+  ViewOptions options;
+  options.successors = true;
+  const cv::Scalar magenta(255, 0, 255);
+  // the first picture has no last picture to link to
+  EXPECT_EQ(FindColor(view.Draw(sim, map, kSize, options), magenta, 40).count, 0);
+  // six frames at 5 cm/s later the finger's particles are 0.5 cm (8 px) from where they were drawn
+  for (int i = 0; i < 6; ++i) ASSERT_FALSE(sim.StepScript());
+  const test::ColorPixels links = FindColor(view.Draw(sim, map, kSize, options), magenta, 40);
+  EXPECT_GT(links.count, 20);
+  // they point along the motion (+x): the links are wider than tall
+  EXPECT_GT(links.bounds.width, 6);
+}
+
+TEST_F(TableViewTest, ShowsErrorsInRed) {
+  TableView view;
+  Overlay overlay;
+  EXPECT_EQ(FindColor(view.Draw(sim, map, kSize, {}, overlay), view_colors::kError, 30).count, 0);
+  overlay.error = "levels/box.toml:12:5: friction must be >= 0 (got -0.2)";
+  const test::ColorPixels red =
+      FindColor(view.Draw(sim, map, kSize, {}, overlay), view_colors::kError, 30);
+  EXPECT_GT(red.count, 100);
+  // below the heads-up lines, at the left
+  EXPECT_LT(red.bounds.x, 40);
+  EXPECT_LT(red.bounds.y, kSize.height / 4);
+}
+
+TEST_F(TableViewTest, CameraImageShowsUnderTheDrawing) {
+  TableView view;
+  ViewOptions options;
+  const cv::Point empty(map.ToDisplay({50, 8}));
+  const cv::Vec3b plain = view.Draw(sim, map, kSize, options).at<cv::Vec3b>(empty);
+  options.cameraImage = true;
+  const cv::Vec3b withImage = view.Draw(sim, map, kSize, options).at<cv::Vec3b>(empty);
+  // the camera's background (about 40 grey) is blended in: the table gets brighter
+  EXPECT_GT(withImage[1], plain[1] + 5);
+}
+
+}  // namespace
+}  // namespace pg
