@@ -310,7 +310,8 @@ Status App::Impl::StartRun(const Level& runLevel, const LevelParams& runParams) 
   mouse.Clear();
   touch.Clear();
   simOk = true;
-  runError.clear();
+  // a missing input's message stays until the input is back
+  if (!noInput) runError.clear();
   Result<DisplayMap> m = LevelDisplayMap(runParams, outputSize);
   if (m.ok()) {
     map = m.value();
