@@ -1,14 +1,11 @@
 #!/usr/bin/env bash
-# The README's main command: install what is missing, build Release, play the default demo level.
-# With no display it runs the demo headless and writes a video and a PNG instead.
+# The README's main command: install what is missing, build Release, play the default demo level
+# in a window. With no display, `play` runs the demo headless and writes a video and a PNG instead,
+# and says where they are.
+#   bash scripts/play.sh [LEVEL] [play options...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake --preset release
 cmake --build --preset release
-exe=build/release/proxygrasp
-if "$exe" play --help >/dev/null 2>&1; then
-  exec "$exe" play "$@"
-fi
-# until the app exists, show what the command offers
-exec "$exe" --help
+exec build/release/proxygrasp play "$@"
