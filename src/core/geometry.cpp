@@ -108,12 +108,16 @@ bool PointInPolygon(const Contour& poly, const Vec2& p) {
   return inside;
 }
 
-double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
+Vec2 ClosestPointOnSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 ab = b - a;
   const double len2 = ab.squaredNorm();
-  if (len2 <= 0.0) return (p - a).norm();
+  if (len2 <= 0.0) return a;
   const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
+  return a + t * ab;
+}
+
+double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  return (p - ClosestPointOnSegment(p, a, b)).norm();
 }
 
 double DistanceToBoundary(const Contour& poly, const Vec2& p) {

@@ -379,10 +379,7 @@ Vec2 NearestFootprintPoint(const CrossSection& footprint, const Vec2& p) {
   Vec2 best = c.col(0);
   double bestD = 1e300;
   for (int i = 0; i < n; ++i) {
-    const Vec2 a = c.col(i), b = c.col((i + 1) % n);
-    const Vec2 ab = b - a;
-    const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
-    const Vec2 q = a + t * ab;
+    const Vec2 q = ClosestPointOnSegment(p, c.col(i), c.col((i + 1) % n));
     const double d = (q - p).squaredNorm();
     if (d < bestD) {
       bestD = d;

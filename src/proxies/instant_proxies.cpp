@@ -119,15 +119,7 @@ void InstantProxies::Update(const ProxyParams& params, const ContactSet& contact
                             const SceneQuery& scene, const TableImage& image, IdCounter& ids,
                             ParticlePlan& plan) {
   // last frame's particles all end
-  for (const Live& l : m_live) {
-    PlannedParticle p;
-    p.id = l.id;
-    p.contact = l.contact;
-    p.action = ParticleAction::kDeleted;
-    p.target = l.target;
-    p.baseHeight = l.baseHeight;
-    plan.particles.push_back(p);
-  }
+  PlanDeletions(plan);
   m_live.clear();
 
   // a particle at every strong edge pixel, moved by the optical flow there
@@ -158,7 +150,7 @@ void InstantProxies::Update(const ProxyParams& params, const ContactSet& contact
   m_previous.origin = image.origin;
 }
 
-void InstantProxies::DeleteAll(ParticlePlan& plan) {
+void InstantProxies::PlanDeletions(ParticlePlan& plan) const {
   for (const Live& l : m_live) {
     PlannedParticle p;
     p.id = l.id;
@@ -168,6 +160,10 @@ void InstantProxies::DeleteAll(ParticlePlan& plan) {
     p.baseHeight = l.baseHeight;
     plan.particles.push_back(p);
   }
+}
+
+void InstantProxies::DeleteAll(ParticlePlan& plan) {
+  PlanDeletions(plan);
   Reset();
 }
 

@@ -100,11 +100,8 @@ Vec2 SubsampleTarget(const Contour& cur, int j, const Vec2& lastTarget, const Po
   for (int i = -reach; i < reach; ++i) {
     const Vec2 a = cur.col(WrapIndex(j + i, m));
     const Vec2 b = cur.col(WrapIndex(j + i + 1, m));
-    const Vec2 ab = b - a;
-    const double len2 = ab.squaredNorm();
-    if (len2 <= 0.0) continue;
-    const double t = std::clamp((predicted - a).dot(ab) / len2, 0.0, 1.0);
-    const Vec2 q = a + t * ab;
+    if ((b - a).squaredNorm() <= 0.0) continue;
+    const Vec2 q = ClosestPointOnSegment(predicted, a, b);
     const double d = (predicted - q).squaredNorm();
     if (d < bestDistance) {
       bestDistance = d;

@@ -124,6 +124,16 @@ TEST(Geometry, DistanceToSegmentEndsAndMiddle) {
   EXPECT_NEAR(DistanceToSegment(Vec2(0, 2), Vec2(0, 0), Vec2(0, 0)), 2.0, kExact);
 }
 
+TEST(Geometry, ClosestPointOnSegmentClampsToEnds) {
+  EXPECT_NEAR((ClosestPointOnSegment(Vec2(0.5, 2), Vec2(0, 0), Vec2(1, 0)) - Vec2(0.5, 0)).norm(),
+              0.0, kExact);
+  EXPECT_NEAR((ClosestPointOnSegment(Vec2(-3, 1), Vec2(0, 0), Vec2(1, 0)) - Vec2(0, 0)).norm(), 0.0,
+              kExact);
+  EXPECT_NEAR((ClosestPointOnSegment(Vec2(4, -1), Vec2(0, 0), Vec2(1, 0)) - Vec2(1, 0)).norm(), 0.0,
+              kExact);
+  EXPECT_EQ(ClosestPointOnSegment(Vec2(4, 4), Vec2(2, 2), Vec2(2, 2)), Vec2(2, 2));
+}
+
 TEST(Geometry, HausdorffOfShiftedSquares) {
   // shifting a square by 0.3 along x: the farthest vertex is 0.3 from the other boundary
   Contour a = Square(2.0);

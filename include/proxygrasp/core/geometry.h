@@ -63,6 +63,9 @@ Contour ResampleClosed(const Contour& c, double spacing, int minPoints = 3);
 /// True when p lies inside the closed polygon (even-odd rule).
 bool PointInPolygon(const Contour& poly, const Vec2& p);
 
+/// The point of segment ab nearest to p (a when the segment has no length).
+Vec2 ClosestPointOnSegment(const Vec2& p, const Vec2& a, const Vec2& b);
+
 /// Distance from p to the segment ab.
 double DistanceToSegment(const Vec2& p, const Vec2& a, const Vec2& b);
 

@@ -60,6 +60,9 @@ class InstantProxies {
     Vec2 target = Vec2::Zero();
     double baseHeight = 0.0;
   };
+  // appends a deletion to plan for every live particle
+  void PlanDeletions(ParticlePlan& plan) const;
+
   std::vector<Live> m_live;
   TableImage m_previous;  // last frame's image (its own copy), empty before the first
 };
