@@ -111,6 +111,35 @@ Vec2 SubsampleTarget(const Contour& cur, int j, const Vec2& lastTarget, const Po
   return best;
 }
 
+// The successors chain integer matches frame after frame and each match drops the sub-sample
+// shift of the contour's sampling, so a contact's indices can creep round its contour away from
+// its particles' (sub-sample) targets; over a few dozen frames of a turning grip they creep several
+// samples and the reach above starts dragging the targets round the contact. The creep is common to
+// the whole contour: the median, over the reused particles, of the offset from a particle's index
+// to the current point nearest its target. 0 when the indices still sit on their targets.
+int IndexCreep(const Contour& cur, const Contour& targets, const std::vector<bool>& reused) {
+  const int m = static_cast<int>(cur.cols());
+  const int reach = std::min(kSubsampleReach + 1, (m - 1) / 2);
+  std::vector<int> offsets;
+  for (int j = 0; j < m; ++j) {
+    if (!reused[j]) continue;
+    int best = 0;
+    double bestDistance = std::numeric_limits<double>::infinity();
+    for (int i = -reach; i <= reach; ++i) {
+      const double d = (cur.col(WrapIndex(j + i, m)) - targets.col(j)).squaredNorm();
+      if (d < bestDistance) {
+        bestDistance = d;
+        best = i;
+      }
+    }
+    offsets.push_back(best);
+  }
+  if (offsets.empty()) return 0;
+  auto mid = offsets.begin() + static_cast<std::ptrdiff_t>(offsets.size() / 2);
+  std::nth_element(offsets.begin(), mid, offsets.end());
+  return *mid;
+}
+
 void Count(ParticlePlan& plan) {
   plan.reused = plan.created = plan.deleted = 0;
   for (const PlannedParticle& p : plan.particles) {
@@ -309,7 +338,9 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
 
   std::vector<ParticleId> ids(m, kNoId);
   std::vector<double> heights(m, 0.0);
+  std::vector<bool> reused(m, false);
   Contour targets(2, m);
+  const size_t first = plan.particles.size();
   for (int j = 0; j < m; ++j) {
     PlannedParticle p;
     p.contact = contact.id;
@@ -319,6 +350,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
       // reuse: the predecessor's particle now follows this point
       p.id = track.ids[pred[j]];
       p.action = ParticleAction::kReused;
+      reused[j] = true;
       if (params.subsample) {
         p.target = SubsampleTarget(cur, j, lastTarget(pred[j]), motion);
       }
@@ -341,6 +373,25 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
     heights[j] = p.baseHeight;
     targets.col(j) = p.target;
     plan.particles.push_back(p);
+  }
+
+  // the particles keep their targets; their indices move back under them when they crept
+  const int creep = params.subsample ? IndexCreep(cur, targets, reused) : 0;
+  if (creep != 0) {
+    std::vector<ParticleId> shiftedIds(m);
+    std::vector<double> shiftedHeights(m);
+    Contour shiftedTargets(2, m);
+    for (int j = 0; j < m; ++j) {
+      const int to = WrapIndex(j + creep, m);
+      shiftedIds[to] = ids[j];
+      shiftedHeights[to] = heights[j];
+      shiftedTargets.col(to) = targets.col(j);
+      plan.particles[first + j].index = to;
+    }
+    ids = std::move(shiftedIds);
+    heights = std::move(shiftedHeights);
+    targets = std::move(shiftedTargets);
+    ++m_stats.indexShifts;
   }
 
   // delete: previous points whose successor did not take them as predecessor

@@ -24,7 +24,8 @@ struct ProxyStageStats {
   int restartedNew = 0;       ///< new contacts whose id already had state (old particles deleted)
   int vanishedContacts = 0;   ///< contacts with state missing from the set (particles deleted)
   int windowedFallbacks = 0;  ///< points the windowed search handed to the full search
-  int missingImage = 0;       ///< instant-mode frames without a table image (no particles)
+  int indexShifts = 0;   ///< contours whose indices crept off their targets and were moved back
+  int missingImage = 0;  ///< instant-mode frames without a table image (no particles)
 };
 
 /// The proxies stage and its state across frames.
