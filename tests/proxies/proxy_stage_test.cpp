@@ -170,22 +170,6 @@ TEST(ProxyStage, SubsampleTargetsFollowSlowMotionAlongTheContour) {
   EXPECT_LE(FractionFollowing(false), 0.3);
 }
 
-// an outline as sensing delivers it, but with its start point jittered up to a spacing either
-// way, as the raster scan's first pixel jumps from frame to frame when a contour moves by less
-// than a pixel
-Contour SensedWithJitter(const Contour& outline, Rng& rng) {
-  const Contour dense = ResampleClosed(MakeCounterClockwise(outline), 0.02);
-  const int n = static_cast<int>(dense.cols());
-  int start = 0;
-  for (int i = 1; i < n; ++i) {
-    if (dense(1, i) < dense(1, start)) start = i;
-  }
-  start += static_cast<int>(std::lround(rng.Uniform(-kSpacing, kSpacing) / 0.02));
-  Contour rotated(2, n);
-  for (int i = 0; i < n; ++i) rotated.col(i) = dense.col(WrapIndex(start + i, n));
-  return ResampleClosed(rotated, kSpacing);
-}
-
 TEST(ProxyStage, ParticlesStayPutOnARoundFingertipCirclingSlowly) {
   // A round fingertip of a grasp that turns a box: its centre moves along a 2.6 cm arc at 0.03 cm
   // a frame and it does not turn, so its particles' targets should keep their angles about its
@@ -203,7 +187,10 @@ TEST(ProxyStage, ParticlesStayPutOnARoundFingertipCirclingSlowly) {
     return Vec2(pivot + 2.6 * Vec2(std::cos(a), std::sin(a)));
   };
   Rng rng(7);
-  auto sensed = [&](int frame) { return SensedWithJitter(Moved(outline, {centre(frame)}), rng); };
+  // each frame's sampling starts up to a spacing either side of the lowest point
+  auto sensed = [&](int frame) {
+    return Sensed(Moved(outline, {centre(frame)}), kSpacing, rng.Uniform(-kSpacing, kSpacing));
+  };
   ParticlePlan plan = h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, sensed(0))}));
   std::map<ParticleId, double> firstAngle;
   for (const PlannedParticle& p : plan.particles) {

@@ -15,16 +15,20 @@ namespace pg::testing {
 inline constexpr double kSpacing = 0.3;
 
 /// An outline as sensing would deliver it: CCW, start at the lowest (then leftmost) point of a
-/// dense sampling, resampled to `spacing`.
-inline Contour Sensed(const Contour& outline, double spacing = kSpacing) {
-  const Contour dense = ResampleClosed(MakeCounterClockwise(outline), 0.02);
+/// dense sampling, moved startShift cm along the outline (the raster's first pixel jumps about
+/// when a contour moves by less than a pixel), resampled to `spacing`.
+inline Contour Sensed(const Contour& outline, double spacing = kSpacing, double startShift = 0.0) {
+  constexpr double kDense = 0.02;  // cm
+  const Contour dense = ResampleClosed(MakeCounterClockwise(outline), kDense);
+  const int n = static_cast<int>(dense.cols());
   int start = 0;
-  for (int i = 1; i < dense.cols(); ++i) {
+  for (int i = 1; i < n; ++i) {
     const double dy = dense(1, i) - dense(1, start);
     if (dy < -1e-9 || (std::abs(dy) <= 1e-9 && dense(0, i) < dense(0, start))) start = i;
   }
-  Contour rotated(2, dense.cols());
-  for (int i = 0; i < dense.cols(); ++i) rotated.col(i) = dense.col((start + i) % dense.cols());
+  start += static_cast<int>(std::lround(startShift / kDense));
+  Contour rotated(2, n);
+  for (int i = 0; i < n; ++i) rotated.col(i) = dense.col(WrapIndex(start + i, n));
   return ResampleClosed(rotated, spacing);
 }
 
