@@ -92,6 +92,30 @@ void LayeredWorld::Impl::PrepareMassSplitting() {
   }
 }
 
+void LayeredWorld::Impl::PrepareTableFriction() {
+  std::vector<int> onTop(objects.size(), 0);
+  for (const ParticleData& p : particles) {
+    if (p.restingOn >= 0) ++onTop[p.restingOn];
+  }
+  for (size_t oi = 0; oi < objects.size(); ++oi) {
+    ObjectData& o = objects[oi];
+    const double N = o.props.mass * params.gravity + params.particleDownForce * onTop[oi];
+    const double mu = o.sliding ? o.spec.tableKinetic : o.spec.tableStatic;
+    const double muTurn = o.spinning ? o.spec.tableKinetic : o.spec.tableStatic;
+    // split like the mass: each of the n slices that carry the object's mass in this substep
+    // resists with 1/n of the limit, so a grip solved in its layers meets the whole table
+    // friction and no more; Couple() then brings the sum within the Coulomb limit (a push that
+    // one layer cannot hold alone is still held when the whole limit can)
+    const int n = o.splitCount;
+    const bool all = n == static_cast<int>(o.slices.size());
+    for (Slice& s : o.slices) {
+      const double share = all || s.touching ? 1.0 / n : 0.0;
+      s.table->SetMaxForce(static_cast<float>(share * mu * N));
+      s.table->SetMaxTorque(static_cast<float>(share * muTurn * N * o.rEff));
+    }
+  }
+}
+
 void LayeredWorld::Impl::ApplyPushes() {
   for (ObjectData& o : objects) {
     for (const Push& p : o.pushes) {
@@ -128,7 +152,8 @@ Vec2 ClampNorm(const Vec2& v, double limit) {
 
 LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
     int oi, const std::vector<int>& onTop, const Vec2& center, const Vec2& vel0, double omega0,
-    double normal, bool kinetic, const FrictionSolve* staticPass) const {
+    const TableImpulse& applied, double normal, bool kinetic,
+    const FrictionSolve* staticPass) const {
   const ObjectData& o = objects[oi];
   const double M = o.props.mass, I = o.props.inertia;
   const double mu = particleFriction[oi];
@@ -139,6 +164,10 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
   r.omega = omega0;
   r.top.assign(n, Vec2::Zero());
   r.topSliding.assign(n, false);
+  // the impulses the slices' friction joints applied are the starting guess; the first sweep
+  // brings their sum within the limit
+  r.table = applied.linear;
+  r.spin = o.rEff > 0 ? applied.angular : 0.0;
 
   // impulse limits: static, or kinetic for the contacts that slid in the static pass
   std::vector<double> topLimit(n, mu * fdt);
@@ -212,15 +241,19 @@ void LayeredWorld::Impl::Couple() {
 
   for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
     ObjectData& o = objects[oi];
-    const double M = o.props.mass, I = o.props.inertia;
+    const double M = o.props.mass;
     const double w = 1.0 / o.splitCount;  // each slice carries M/n of the mass
 
     // momentum-weighted sum of the slices' velocity changes; position corrections from the
     // layers with contacts (displacement beyond what their velocity integrated)
     Vec2 dv = Vec2::Zero(), corr = Vec2::Zero();
     double dw = 0.0, corrA = 0.0;
+    TableImpulse table;
     for (Slice& s : o.slices) {
       const b2Body* b = s.body;
+      // what the slice's table friction joint applied (GetReaction* with inverse step 1)
+      table.linear += FromB2(s.table->GetReactionForce(1.0f));
+      table.angular += s.table->GetReactionTorque(1.0f);
       const Vec2 v = FromB2(b->GetLinearVelocity());
       const double om = b->GetAngularVelocity();
       dv += w * (v - o.velF);
@@ -235,15 +268,18 @@ void LayeredWorld::Impl::Couple() {
     double omega = o.omega + dw;
     const Vec2 centerAfterStep = o.center + vel * dt + corr;
 
-    // top friction and table friction are solved together: a finger on top can only drag the
-    // object when its friction beats the table's, which a sequential pass gets wrong (top
+    // Table friction was solved inside the layer worlds, together with the side contacts (each
+    // slice's joint may hold the whole limit). Here its sum over the slices is brought within the
+    // Coulomb limit, and top friction is solved together with it: a finger on top can only drag
+    // the object when its friction beats the table's, which a sequential pass gets wrong (top
     // friction would only supply what matches the finger's speed in one substep, and the table's
-    // static check would then cancel it every substep)
+    // static check would then cancel it every substep).
     const double N = M * g + fd * static_cast<double>(onTop[oi].size());
-    FrictionSolve solve = SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, N, false);
+    FrictionSolve solve =
+        SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, table, N, false);
     // Coulomb: where a static limit is reached the contact slides, and slides at kinetic friction
     if (solve.tableSliding || solve.spinSliding || solve.anyTopSliding) {
-      solve = SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, N, true, &solve);
+      solve = SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, table, N, true, &solve);
     }
     for (size_t k = 0; k < onTop[oi].size(); ++k) {
       particles[onTop[oi][k]].bodies.front()->ApplyLinearImpulseToCenter(ToB2(-solve.top[k]), true);
@@ -252,15 +288,11 @@ void LayeredWorld::Impl::Couple() {
     o.topNormal += fd * static_cast<double>(onTop[oi].size()) * dt;
     o.particlesOnTop = static_cast<int>(onTop[oi].size());
 
-    // the substep's displacement: static table friction undoes it (a push below mu_s M g holds the
-    // object exactly still). Kinetic table friction takes momentum off for the next substep; with
-    // only side contacts it does not shorten this substep's displacement, because the contacts
-    // (solved inside Box2D before it) restore it next substep and taking it twice would make a
-    // carried object slip out of a steady grip. Top friction is solved together with the table
-    // here, so with particles on top the displacement follows the velocity after both.
-    const bool topDrag = !onTop[oi].empty();
-    Vec2 move = (topDrag ? solve.vel : Vec2(solve.vel - solve.table / M)) * dt + corr;
-    double turn = (topDrag ? solve.omega : solve.omega - solve.spin / I) * dt + corrA;
+    // the substep's displacement follows the velocity after friction (symplectic Euler, as Box2D
+    // integrates); static table friction holds the object exactly still (a push below mu_s M g
+    // leaves only the contacts' position corrections)
+    Vec2 move = solve.vel * dt + corr;
+    double turn = solve.omega * dt + corrA;
     if (!solve.tableSliding) {
       solve.vel.setZero();
       move = corr;
@@ -271,6 +303,8 @@ void LayeredWorld::Impl::Couple() {
     }
     vel = solve.vel;
     omega = solve.omega;
+    o.sliding = solve.tableSliding;
+    o.spinning = solve.spinSliding;
 
     o.center += move;
     o.angle += turn;

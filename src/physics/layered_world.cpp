@@ -206,6 +206,12 @@ Status LayeredWorld::Build(const PhysicsParams& physics, const TableParams& tabl
           s.body->CreateFixture(&fd);
         }
       }
+      // table friction acts at the centre of mass; its limits are set every substep
+      b2FrictionJointDef jd;
+      jd.Initialize(w.layers[k]->walls, s.body, ToB2(o.center));
+      jd.localAnchorB = ToB2(o.props.centroid);
+      jd.collideConnected = true;  // the walls are the ground body, and they must stay walls
+      s.table = static_cast<b2FrictionJoint*>(w.layers[k]->world->CreateJoint(&jd));
       o.slices.push_back(std::move(s));
     }
     w.objects.push_back(std::move(o));
@@ -283,6 +289,7 @@ void LayeredWorld::StepFrame() {
   for (int s = 0; s < S; ++s) {
     w.ApplyKinematicControl(static_cast<double>(s + 1) / S);
     w.PrepareMassSplitting();
+    w.PrepareTableFriction();
     w.ApplyPushes();
     w.StepLayers();
     w.Couple();

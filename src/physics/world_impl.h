@@ -78,7 +78,8 @@ struct Slice {
   double z = 0.0;  ///< height of the cross-section, cm
   CrossSection section;
   b2Body* body = nullptr;
-  bool touching = false;  ///< had a touching contact in the last substep
+  b2FrictionJoint* table = nullptr;  ///< table friction, solved with the layer's contacts
+  bool touching = false;             ///< had a touching contact in the last substep
 };
 
 /// An external push waiting for the next frame.
@@ -117,6 +118,8 @@ struct ObjectData {
   bool held = false;
   int particlesOnTop = 0;
   std::vector<Push> pushes;
+  bool sliding = false;   ///< slid on the table in the last substep (kinetic friction)
+  bool spinning = false;  ///< turned on the table in the last substep (kinetic friction)
 
   // the pose of the local frame, cached at every write-back
   Pose2 pose;
@@ -186,6 +189,8 @@ struct LayeredWorld::Impl {
   // coupling.cpp
   /// Gives each object's slices mass M/n, inertia I/n, n = layers predicted to have contacts.
   void PrepareMassSplitting();
+  /// Sets every slice's table friction joint to the object's Coulomb limit for this substep.
+  void PrepareTableFriction();
   /// Applies the queued external pushes for one substep.
   void ApplyPushes();
   /// Steps every layer world (concurrently when threads > 1).
@@ -204,11 +209,19 @@ struct LayeredWorld::Impl {
     bool spinSliding = false;      ///< turning friction reached its limit
     bool anyTopSliding = false;
   };
+  /// The table friction the layer solves already applied to one object: impulse and angular
+  /// impulse, summed over its slices.
+  struct TableImpulse {
+    Vec2 linear = Vec2::Zero();
+    double angular = 0.0;
+  };
   /// Projected Gauss-Seidel over the top friction of the particles resting on object oi and its
-  /// table friction (linear and turning), starting from velocity vel0, omega0 and the table's
-  /// normal force (dyn). With kinetic, the contacts that slid in staticPass get kinetic limits.
+  /// table friction (linear and turning), starting from velocity vel0, omega0 (which already
+  /// contain the table impulse applied), and the table's normal force (dyn). With kinetic, the
+  /// contacts that slid in staticPass get kinetic limits.
   FrictionSolve SolveFriction(int oi, const std::vector<int>& onTop, const Vec2& center,
-                              const Vec2& vel0, double omega0, double normal, bool kinetic,
+                              const Vec2& vel0, double omega0, const TableImpulse& applied,
+                              double normal, bool kinetic,
                               const FrictionSolve* staticPass = nullptr) const;
   /// Adds the layers' contact records to the objects' frame diagnostics.
   void CollectRecords(bool lastSubstep);
