@@ -519,6 +519,45 @@ int LayeredWorld::PlanErrors() const {
   return m_impl->planErrors;
 }
 
+std::vector<std::string> LayeredWorld::FixedKeysChanged(const PhysicsParams& physics) const {
+  const PhysicsParams& p = m_impl->params;
+  std::vector<std::string> keys;
+  if (physics.layerHeight != p.layerHeight) keys.emplace_back("layer_height");
+  if (physics.layers != p.layers) keys.emplace_back("layers");
+  if (physics.particleRadius != p.particleRadius) keys.emplace_back("particle_radius");
+  if (physics.stackSize != p.stackSize) keys.emplace_back("stack_size");
+  if (physics.capsule != p.capsule) keys.emplace_back("capsule");
+  return keys;
+}
+
+Status LayeredWorld::SetParams(const PhysicsParams& physics) {
+  Impl& w = *m_impl;
+  if (w.layers.empty()) return MakeError(SourceLoc{}, "physics: SetParams before Build");
+  if (Status s = ValidateParams(physics, w.table)) return s;
+  const std::vector<std::string> fixed = FixedKeysChanged(physics);
+  if (!fixed.empty()) {
+    return ParamError(fixed.front(), "cannot change while the world runs; rebuild it");
+  }
+  const PhysicsParams old = w.params;
+  w.params = physics;
+  w.dt = 1.0 / (physics.frameRate * physics.substeps);
+  if (physics.threads != old.threads) w.pool = std::make_unique<ThreadPool>(physics.threads);
+  for (size_t oi = 0; oi < w.objects.size(); ++oi) {
+    const double own = w.objects[oi].spec.particleFriction;
+    w.particleFriction[oi] = own >= 0 ? own : physics.particleFriction;
+  }
+  if (physics.particleMass != old.particleMass) {
+    b2MassData md;
+    md.mass = static_cast<float>(physics.particleMass);
+    md.center.SetZero();
+    md.I = 0.0f;
+    for (ParticleData& p : w.particles) {
+      for (b2Body* b : p.bodies) b->SetMassData(&md);
+    }
+  }
+  return std::nullopt;
+}
+
 const PhysicsParams& LayeredWorld::Params() const {
   return m_impl->params;
 }

@@ -5,6 +5,7 @@
 #include "proxygrasp/core/rng.h"
 #include "proxygrasp/core/units.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -212,8 +213,8 @@ struct Busy {
   int nextId = 1;
   std::vector<ParticleId> ids;
 
-  explicit Busy(int threads) {
-    PhysicsParams p;
+  explicit Busy(int threads, const PhysicsParams& base = PhysicsParams()) {
+    PhysicsParams p = base;
     p.threads = threads;
     p.stackSize = 3;
     std::vector<ObjectSpec> objects = {Box("a", 20, 20, 4, 4, 2.0), Box("b", 30, 25, 3, 6, 5.0),
@@ -276,6 +277,79 @@ TEST(Determinism, ThreadedSteppingIsBitIdenticalToSerial) {
   Busy again(2);
   for (int f = 0; f < 90; ++f) again.Frame(f);
   EXPECT_EQ(again.world.StateHash(), serial.world.StateHash());
+}
+
+// every parameter SetParams may change, away from its default
+PhysicsParams Tuned() {
+  PhysicsParams p;
+  p.frameRate = 50;
+  p.substeps = 5;
+  p.velocityIterations = 6;
+  p.positionIterations = 4;
+  p.gravity = 700;
+  p.particleMass = 2.0;
+  p.particleDownForce = 3500;
+  p.particleFriction = 0.5;
+  p.topKineticFactor = 0.6;
+  p.heldOpposingDot = -0.7;
+  p.heldFrictionMargin = 0.9;
+  return p;
+}
+
+TEST(SetParams, RetunedWorldRunsLikeOneBuiltWithTheNewParameters) {
+  PhysicsParams tuned = Tuned();
+  tuned.stackSize = 3;  // as Busy builds
+  Busy built(1, tuned), retuned(1);
+  tuned.threads = 2;  // threads change the pool, never the results
+  ASSERT_EQ(retuned.world.SetParams(tuned), std::nullopt);
+  EXPECT_EQ(retuned.world.Params().substeps, 5);
+  for (int f = 0; f < 60; ++f) {
+    built.Frame(f);
+    retuned.Frame(f);
+    ASSERT_EQ(built.world.StateHash(), retuned.world.StateHash()) << "frame " << f;
+  }
+}
+
+TEST(SetParams, KeepsTheStateAndChangesTheRunFromTheNextFrame) {
+  Busy a(1), b(1);
+  for (int f = 0; f < 30; ++f) {
+    a.Frame(f);
+    b.Frame(f);
+  }
+  const uint64_t before = b.world.StateHash();
+  PhysicsParams tuned = Tuned();
+  tuned.stackSize = 3;
+  ASSERT_EQ(b.world.SetParams(tuned), std::nullopt);
+  // nothing moved: objects and particles are where they were
+  EXPECT_EQ(b.world.StateHash(), before);
+  EXPECT_EQ(b.world.ParticleCount(), a.world.ParticleCount());
+  a.Frame(30);
+  b.Frame(30);
+  EXPECT_NE(a.world.StateHash(), b.world.StateHash());
+}
+
+TEST(SetParams, RebuildKeysAndBadValuesAreErrorsThatChangeNothing) {
+  Busy b(1);
+  b.Frame(0);
+  const PhysicsParams before = b.world.Params();
+  PhysicsParams p = before;
+  p.layers = 6;
+  p.particleRadius = 0.3;
+  EXPECT_EQ(b.world.FixedKeysChanged(p), (std::vector<std::string>{"layers", "particle_radius"}));
+  p.substeps = 7;
+  Status s = b.world.SetParams(p);
+  ASSERT_NE(s, std::nullopt);
+  EXPECT_THAT(s->Format(), ::testing::HasSubstr("layers"));
+  EXPECT_EQ(b.world.Params().substeps, before.substeps);
+  p = before;
+  p.substeps = 0;
+  s = b.world.SetParams(p);
+  ASSERT_NE(s, std::nullopt);
+  EXPECT_THAT(s->Format(), ::testing::HasSubstr("substeps"));
+  EXPECT_EQ(b.world.Params().substeps, before.substeps);
+  EXPECT_TRUE(b.world.FixedKeysChanged(before).empty());
+  LayeredWorld empty;
+  EXPECT_NE(empty.SetParams(before), std::nullopt);
 }
 
 }  // namespace

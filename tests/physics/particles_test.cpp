@@ -127,6 +127,21 @@ struct Squeeze {
   }
 };
 
+TEST(KinematicControl, ParticleLandsOnItsTargetAfterItsMassIsRetuned) {
+  // the controller's force uses the new mass, so the bodies already in the world must take it too
+  PhysicsParams p;
+  LayeredWorld w;
+  MustBuild(w, p, {});
+  w.ApplyPlan(Plan({Create(1, Vec2(10, 10), Vec2(10, 10))}));
+  w.StepFrame();
+  p.particleMass = 3.0;
+  ASSERT_EQ(w.SetParams(p), std::nullopt);
+  w.ApplyPlan(Plan({Reuse(1, Vec2(12, 10))}));
+  w.StepFrame();
+  // float positions (1e-5 cm at 10 cm)
+  EXPECT_NEAR((w.Particles()[0].pos - Vec2(12, 10)).norm(), 0.0, 1e-4);
+}
+
 TEST(Squeeze, NormalForceIsMassTimesDepthOverDtSquared) {
   Squeeze sq(0.2);
   const double dt = 1.0 / (sq.params.frameRate * sq.params.substeps);
@@ -141,6 +156,22 @@ TEST(Squeeze, NormalForceIsMassTimesDepthOverDtSquared) {
   EXPECT_EQ(f.layers[2].normalMagnitude, 0.0);
   // opposing sides cancel
   EXPECT_LT(f.total.normal.norm(), 0.02 * f.total.normalMagnitude);
+  EXPECT_TRUE(sq.world.Object(0).held);
+}
+
+TEST(Squeeze, RetunedParticleMassAndSubstepsSetTheNewNormalForce) {
+  // SetParams reaches the bodies already in the world: doubling the particle mass and going from
+  // 4 to 6 substeps changes m / dt^2 by 2 * 1.5^2 = 4.5
+  Squeeze sq(0.2);
+  PhysicsParams tuned = sq.params;
+  tuned.particleMass = 2.0;
+  tuned.substeps = 6;
+  ASSERT_EQ(sq.world.SetParams(tuned), std::nullopt);
+  for (int f = 0; f < 10; ++f) sq.world.StepFrame();  // settle
+  const double dt = 1.0 / (tuned.frameRate * tuned.substeps);
+  const double perBody = tuned.particleMass * (sq.d + kSlop) / (dt * dt);
+  // 12 bodies as above; 1% for float rounding and solver residue
+  EXPECT_NEAR(sq.world.Forces(0).total.normalMagnitude, 12 * perBody, 0.01 * 12 * perBody);
   EXPECT_TRUE(sq.world.Object(0).held);
 }
 

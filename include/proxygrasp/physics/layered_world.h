@@ -14,6 +14,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace pg {
@@ -31,6 +32,18 @@ class LayeredWorld : public SceneQuery {
   /// on error the world is left empty.
   Status Build(const PhysicsParams& physics, const TableParams& table,
                std::span<const ObjectSpec> objects);
+
+  /// Changes the parameters of a built world between frames, keeping every object and particle
+  /// where it is: frame_rate, substeps, iterations, threads, gravity, particle_mass (applied to
+  /// the existing bodies), particle_down_force, particle_friction (for objects that use it),
+  /// top_kinetic_factor and the held thresholds take effect from the next StepFrame. A change of
+  /// what only Build can apply (FixedKeysChanged) or an invalid value is an Error naming the key,
+  /// and nothing changes.
+  Status SetParams(const PhysicsParams& physics);
+  /// The keys of the parameters that differ between `physics` and those in use and that
+  /// SetParams cannot change: "layer_height", "layers" (the layer worlds and slices),
+  /// "particle_radius", "stack_size" and "capsule" (the particle bodies).
+  std::vector<std::string> FixedKeysChanged(const PhysicsParams& physics) const;
 
   /// Applies one frame's particle plan: creates stacks (at start, base layer from baseHeight),
   /// deletes stacks, sets the targets the next StepFrame drives particles to. Entries naming
@@ -73,7 +86,7 @@ class LayeredWorld : public SceneQuery {
   /// Inputs that were skipped: plan entries naming unknown or duplicate particles or holding
   /// non-finite positions, and pushes on unknown objects or with non-finite values.
   int PlanErrors() const;
-  /// The parameters it was built with.
+  /// The parameters in use.
   const PhysicsParams& Params() const;
 
   /// Hash (FNV-1a) of the exact simulation state: object poses and velocities, every particle
