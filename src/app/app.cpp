@@ -155,8 +155,9 @@ struct App::Impl {
   ViewOptions viewOptions;
   cv::Mat picture;
   std::string loadError;
-  std::string runError;  // the pipeline's or the input's last error
-  std::string message;   // transient status
+  std::string runError;    // the pipeline's or the input's last error
+  std::string message;     // transient status
+  std::string tuneStatus;  // what the last parameter change did, shown in the panel
   Clock::time_point messageTime;
 
   // input
@@ -202,6 +203,7 @@ struct App::Impl {
   Status Adopt(Level next, const std::string& path);
   Status Load(const std::string& path);
   Status StartRun(const Level& runLevel, const LevelParams& runParams);
+  void ApplyParams(const LevelParams& next);
   Status SetupInput();
   void Say(const std::string& text);
   void UpdateOutputSize();
@@ -320,6 +322,46 @@ Status App::Impl::StartRun(const Level& runLevel, const LevelParams& runParams) 
     runError = m.error().Format();
   }
   return std::nullopt;
+}
+
+void App::Impl::ApplyParams(const LevelParams& next) {
+  auto join = [](const std::vector<std::string>& keys) {
+    std::string text;
+    for (const std::string& k : keys) text += (text.empty() ? "" : ", ") + k;
+    return text;
+  };
+  // the running simulation takes what it can in place and keeps its objects and particles
+  Result<RetuneReport> retuned = sim.Retune(next);
+  if (!retuned.ok()) {
+    // a rejected value keeps the running parameters
+    runError = retuned.error().Format();
+    tuneStatus = "rejected: " + runError;
+    edit = params;
+    Say(tuneStatus);
+    return;
+  }
+  const RetuneReport& report = retuned.value();
+  if (report.restart.empty()) {
+    params = next;
+    edit = params;
+    if (!noInput) runError.clear();
+    if (report.live.empty()) return;
+    tuneStatus = "applied live: " + join(report.live);
+    Say(tuneStatus);
+    return;
+  }
+  // the rest needs a new run: restart with every change, as before live tuning
+  if (Status s = StartRun(level, next)) {
+    runError = s->Format();
+    tuneStatus = "rejected: " + runError;
+    edit = params;
+    Say(tuneStatus);
+    return;
+  }
+  params = next;
+  edit = params;
+  tuneStatus = "restarted: " + join(report.restart) + " cannot change on a running simulation";
+  Say(tuneStatus);
 }
 
 Status App::Impl::Load(const std::string& path) {
@@ -551,15 +593,7 @@ void App::Impl::ApplyPending() {
     }
   }
   if (p.params) {
-    // the stages take their parameters when they are built: a change restarts the run; values
-    // the pipeline rejects leave the running one as it was
-    if (Status s = StartRun(level, *p.params)) {
-      runError = s->Format();
-      edit = params;
-    } else {
-      params = *p.params;
-      edit = params;
-    }
+    ApplyParams(*p.params);
   } else if (p.restart) {
     if (Status s = StartRun(level, params)) runError = s->Format();
   }
@@ -777,7 +811,10 @@ void App::Impl::DrawPanel() {
   }
 
   ImGui::Separator();
-  ImGui::TextWrapped("Level parameters: a finished edit restarts the run with them.");
+  ImGui::TextWrapped(
+      "Level parameters: a finished edit applies at once to the running level. Table, physics, "
+      "camera size, lens and seed, and the calibration file restart the run.");
+  if (!tuneStatus.empty()) ImGui::TextWrapped("%s", tuneStatus.c_str());
   if (ImGui::Button("Copy as TOML")) pending.copyToml = true;
   ImGui::SameLine();
   if (ImGui::Button("Revert to the file")) pending.params = level.params;
@@ -928,6 +965,9 @@ void App::RequestScreenshot(const std::string& path) {
 }
 void App::RequestParams(const LevelParams& params) {
   m_impl->pending.params = params;
+}
+const std::string& App::tuneStatus() const {
+  return m_impl->tuneStatus;
 }
 std::string App::ChangedParamsToml() const {
   return m_impl->ChangedToml();

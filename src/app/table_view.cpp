@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 
 namespace pg {
 
@@ -200,6 +201,30 @@ Status ParseViewOptions(const std::string& list, ViewOptions& options) {
   return std::nullopt;
 }
 
+std::vector<cv::Rect> SpreadLabels(std::span<const cv::Rect> wanted, cv::Size image) {
+  const cv::Rect picture(0, 0, image.width, image.height);
+  std::vector<cv::Rect> placed;
+  placed.reserve(wanted.size());
+  for (const cv::Rect& want : wanted) {
+    // candidates one box height (and a gap) apart: where it wants to be, then below, above,
+    // two below, ...; the first inside the picture that overlaps no placed box wins
+    const int step = want.height + kLabelGap;
+    const int tries = 2 * (image.height / std::max(step, 1) + 1);
+    std::optional<cv::Rect> free;
+    for (int k = 0; k <= tries && !free; ++k) {
+      const int n = (k + 1) / 2 * (k % 2 == 1 ? 1 : -1);
+      const cv::Rect r = want + cv::Point(0, n * step);
+      if ((r & picture) != r) continue;
+      const bool clear = std::none_of(placed.begin(), placed.end(),
+                                      [&r](const cv::Rect& p) { return (r & p).area() > 0; });
+      if (clear) free = r;
+    }
+    // no free place (more labels than fit): it stays where it wants to be
+    placed.push_back(free.value_or(want));
+  }
+  return placed;
+}
+
 double GoalProgress(const Goal& goal, const Pose2& start, const Pose2& now) {
   if (goal.IsMet(now)) return 1.0;
   double progress = 1.0;
@@ -298,7 +323,18 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
              cv::LINE_AA, kShift);
   }
 
-  // angle goals: a mark at the target angle around the object, and every goal's progress bar
+  // angle goals: a mark at the target angle around the object; every goal's label and progress
+  // bar are laid out here and drawn once none overlaps another
+  struct GoalLabel {
+    std::string text;
+    cv::Scalar color;
+    double progress = 0.0;
+    int textHeight = 0;  // px above the baseline
+  };
+  std::vector<GoalLabel> labels;
+  std::vector<cv::Rect> wanted;
+  const int barWidth = std::max(40, size.width / 16);
+  const int barHeight = std::max(4, size.height / 160);
   for (const Goal& goal : sim.level().goals) {
     int index = -1;
     for (int i = 0; i < world.ObjectCount(); ++i)
@@ -327,20 +363,38 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
                cv::LINE_AA, kShift);
       if (!goal.zone) labelAt = state.pose.pos + Vec2(0, -(reach + 3.5));
     }
-    const double progress = GoalProgress(goal, start, state.pose);
-    const cv::Point at = Round(map.ToDisplay(labelAt));
-    const int barWidth = std::max(40, size.width / 16);
-    const int barHeight = std::max(4, size.height / 160);
-    const cv::Rect bar(at.x - barWidth / 2, at.y + 6, barWidth, barHeight);
-    cv::rectangle(img, bar, color, 1, cv::LINE_8);
-    cv::rectangle(
-        img, cv::Rect(bar.x, bar.y, static_cast<int>(std::lround(barWidth * progress)), barHeight),
-        color, cv::FILLED, cv::LINE_8);
-    const std::string label =
-        (goal.label.empty() ? goal.object : goal.label) + (met ? "  done" : "");
+    // goals that share a label name their object, so each bar can be told apart
+    std::string text = goal.label.empty() ? goal.object : goal.label;
+    const auto sameText = [&](const Goal& other) {
+      return &other != &goal && (other.label.empty() ? other.object : other.label) == text;
+    };
+    const auto& goals = sim.level().goals;
+    if (std::any_of(goals.begin(), goals.end(), sameText)) text += " (" + goal.object + ")";
+    if (met) text += "  done";
+    // the label's box: the text above the anchor, the bar below it
     int baseline = 0;
-    const cv::Size ts = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, textScale, 1, &baseline);
-    Text(img, label, {at.x - ts.width / 2, at.y - 4}, textScale, color);
+    const cv::Size ts = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, textScale, 1, &baseline);
+    const cv::Point at = Round(map.ToDisplay(labelAt));
+    const int width = std::max(ts.width, barWidth);
+    wanted.emplace_back(at.x - width / 2, at.y - 4 - ts.height, width, ts.height + 10 + barHeight);
+    labels.push_back({text, color, GoalProgress(goal, start, state.pose), ts.height});
+  }
+  const std::vector<cv::Rect> placed = SpreadLabels(wanted, size);
+  for (size_t i = 0; i < labels.size(); ++i) {
+    const GoalLabel& label = labels[i];
+    const cv::Rect& box = placed[i];
+    const int centre = box.x + box.width / 2;
+    const cv::Rect bar(centre - barWidth / 2, box.y + label.textHeight + 10, barWidth, barHeight);
+    cv::rectangle(img, bar, label.color, 1, cv::LINE_8);
+    cv::rectangle(
+        img,
+        cv::Rect(bar.x, bar.y, static_cast<int>(std::lround(barWidth * label.progress)), barHeight),
+        label.color, cv::FILLED, cv::LINE_8);
+    int baseline = 0;
+    const cv::Size ts =
+        cv::getTextSize(label.text, cv::FONT_HERSHEY_SIMPLEX, textScale, 1, &baseline);
+    Text(img, label.text, {centre - ts.width / 2, box.y + label.textHeight}, textScale,
+         label.color);
   }
 
   // particles, coloured by their base layer

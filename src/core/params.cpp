@@ -3,6 +3,7 @@
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
 
+#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <optional>
@@ -257,7 +258,83 @@ class Setter final : public ParamVisitor {
   std::string m_text;
 };
 
+// checks each field against its description, recording the first problem
+class RangeChecker final : public ParamVisitor {
+ public:
+  std::optional<std::string> problem;  ///< "key must be in ..."
+
+  void Real(const char* key, double& value, double min, double max, const char* unit,
+            const char*) override {
+    // written so that NaN fails too
+    if (!(value >= min && value <= max)) {
+      Fail(key, "must be in " + RangeText(min, max) + UnitSuffix(unit) + " (got " +
+                    FormatDouble(value) + ")");
+    }
+  }
+  void Integer(const char* key, int& value, int min, int max, const char* unit,
+               const char*) override {
+    if (value < min || value > max) {
+      Fail(key, "must be in " + RangeText(min, max) + UnitSuffix(unit) + " (got " +
+                    std::to_string(value) + ")");
+    }
+  }
+  void Boolean(const char*, bool&, const char*) override {}
+  void Choice(const char* key, int& value, std::span<const char* const> names,
+              const char*) override {
+    if (value < 0 || value >= static_cast<int>(names.size())) {
+      std::string allowed;
+      for (size_t i = 0; i < names.size(); ++i) allowed += (i ? ", " : "") + std::string(names[i]);
+      Fail(key, "must be one of " + allowed + " (got index " + std::to_string(value) + ")");
+    }
+  }
+  void Text(const char*, std::string&, const char*) override {}
+  void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
+              const char*) override {
+    if (!InRange(value, min, max)) {
+      Fail(key, "must have each coordinate in " + RangeText(min, max) + UnitSuffix(unit) +
+                    " (got " + FormatVec(value) + ")");
+    }
+  }
+  void Points(const char* key, std::vector<Vec2>& value, double min, double max, const char* unit,
+              const char*) override {
+    for (const Vec2& p : value) {
+      if (!InRange(p, min, max)) {
+        Fail(key, "must have each coordinate in " + RangeText(min, max) + UnitSuffix(unit) +
+                      " (got " + FormatVec(p) + ")");
+        return;
+      }
+    }
+  }
+
+ private:
+  static std::string UnitSuffix(const char* unit) {
+    const std::string u = unit ? unit : "";
+    return (u.empty() || u == "1") ? std::string() : " " + u;
+  }
+  void Fail(const char* key, std::string what) {
+    if (!problem) problem = std::string(key) + " " + std::move(what);
+  }
+};
+
 }  // namespace
+
+Status CheckFields(const ParamSection& section) {
+  RangeChecker checker;
+  section.describe(checker);
+  if (checker.problem) return MakeError({}, section.name + "." + *checker.problem);
+  return std::nullopt;
+}
+
+std::vector<std::string> ChangedKeys(const ParamSection& a, const ParamSection& b) {
+  const std::vector<FieldInfo> before = ListFields(a);
+  const std::vector<FieldInfo> after = ListFields(b);
+  assert(before.size() == after.size() && "ChangedKeys compares two copies of one struct");
+  std::vector<std::string> keys;
+  for (size_t i = 0; i < before.size() && i < after.size(); ++i) {
+    if (before[i].value != after[i].value) keys.push_back(before[i].key);
+  }
+  return keys;
+}
 
 std::vector<FieldInfo> ListFields(const ParamSection& section) {
   Lister lister;

@@ -15,6 +15,15 @@ std::vector<ParamSection> Sections(LevelParams& p) {
   };
 }
 
+Status CheckParams(const LevelParams& p) {
+  // the sections refer to their struct: describe a copy
+  LevelParams copy = p;
+  for (const ParamSection& s : Sections(copy)) {
+    if (Status bad = CheckFields(s)) return bad;
+  }
+  return std::nullopt;
+}
+
 Status SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text) {
   const size_t dot = dottedKey.find('.');
   if (dot == std::string::npos) {

@@ -1,6 +1,7 @@
 #include "proxygrasp/level/simulation.h"
 
 #include "proxygrasp/core/timer.h"
+#include "proxygrasp/level/params.h"
 #include "proxygrasp/level/script.h"
 
 #include <algorithm>
@@ -23,10 +24,56 @@ Status Simulation::Start(const Level& level, const LevelParams& params) {
   // unless the sensing parameters ask to capture one from the first frames
   if (params.sensing.backgroundFrames == 0 && !next.m_sensor.HasBackground()) {
     if (Status s = next.m_sensor.SetBackground(next.m_camera->Background())) return s;
+    next.m_backgroundFromCamera = true;
   }
   if (Status s = next.m_world.Build(params.physics, params.table, level.objects)) return s;
   *this = std::move(next);
   return std::nullopt;
+}
+
+Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
+  if (!m_camera) return MakeError({m_level.path}, "the simulation has not started");
+  if (Status s = CheckParams(params)) return *s;
+
+  // every changed key, and whether its stage can take it while running
+  const std::vector<std::string> sensorFixed = m_sensor.FixedKeysChanged(params.sensing);
+  const std::vector<std::string> cameraFixed = m_camera->FixedKeysChanged(params.camera);
+  auto fixed = [&](const std::string& section, const std::string& key) {
+    // the table shapes the walls, the sensor's mapping and the camera; LayeredWorld has no
+    // setter: its parameters are taken by Build only
+    if (section == "table" || section == "physics") return true;
+    const auto in = [&key](const std::vector<std::string>& keys) {
+      return std::find(keys.begin(), keys.end(), key) != keys.end();
+    };
+    if (section == "sensing") return in(sensorFixed);
+    if (section == "camera") return in(cameraFixed);
+    return false;  // proxies and tracking take their parameters every frame
+  };
+  RetuneReport report;
+  LevelParams before = m_params;
+  LevelParams after = params;
+  const std::vector<ParamSection> old = Sections(before);
+  const std::vector<ParamSection> now = Sections(after);
+  for (size_t i = 0; i < old.size(); ++i) {
+    for (const std::string& key : ChangedKeys(old[i], now[i])) {
+      (fixed(old[i].name, key) ? report.restart : report.live).push_back(old[i].name + "." + key);
+    }
+  }
+  if (!report.restart.empty()) return report;
+
+  // the stages with state built from their parameters take the change in place (their fixed
+  // keys were checked above, so neither rejects it); the others read m_params every frame
+  if (Status s = m_sensor.SetParams(params.sensing)) return *s;
+  if (Status s = m_camera->SetParams(params.camera)) return *s;
+  // a background taken from the camera's clear table follows its lighting
+  const bool lighting = params.camera.background != m_params.camera.background ||
+                        params.camera.gradient != m_params.camera.gradient ||
+                        params.camera.vignetting != m_params.camera.vignetting;
+  if (lighting && m_backgroundFromCamera) {
+    if (Status s = m_sensor.SetBackground(m_camera->Background())) return *s;
+  }
+  m_params = params;
+  return report;
 }
 
 double Simulation::Time() const {

@@ -35,6 +35,22 @@ Vec2 ApplyHomography(const cv::Matx33d& h, double x, double y) {
   return Vec2((h(0, 0) * x + h(0, 1) * y + h(0, 2)) / w, (h(1, 0) * x + h(1, 1) * y + h(1, 2)) / w);
 }
 
+// what Configure and SetParams require beyond the described ranges
+Status CheckSensingParams(const SensingParams& params) {
+  if (!(params.spacing > 0.0)) return MakeError({"sensing.spacing"}, "must be > 0");
+  if (params.minArea < 0.0) return MakeError({"sensing.min_area"}, "must be >= 0");
+  if (params.morphology < 0) return MakeError({"sensing.morphology"}, "must be >= 0");
+  if (!(params.tableCmPerPixel > 0.0))
+    return MakeError({"sensing.table_cm_per_pixel"}, "must be > 0");
+  return std::nullopt;
+}
+
+// the structuring element of the clean-up opening (empty for none)
+cv::Mat OpeningKernel(int radius) {
+  if (radius <= 0) return cv::Mat();
+  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+}
+
 }  // namespace
 
 cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin) {
@@ -118,11 +134,7 @@ Status Sensor::Configure(const SensingParams& params, const TableParams& table,
 Status Sensor::Configure(const SensingParams& params, const TableParams& table,
                          const Calibration& calibration, const std::string& source) {
   m_configured = false;
-  if (!(params.spacing > 0.0)) return MakeError({"sensing.spacing"}, "must be > 0");
-  if (params.minArea < 0.0) return MakeError({"sensing.min_area"}, "must be >= 0");
-  if (params.morphology < 0) return MakeError({"sensing.morphology"}, "must be >= 0");
-  if (!(params.tableCmPerPixel > 0.0))
-    return MakeError({"sensing.table_cm_per_pixel"}, "must be > 0");
+  if (Status s = CheckSensingParams(params)) return s;
   Result<CameraModel> model = ModelFromCalibration(calibration, source);
   if (!model) return model.error();
 
@@ -136,12 +148,34 @@ Status Sensor::Configure(const SensingParams& params, const TableParams& table,
   m_captured = 0;
   m_tableMapX.release();
   m_tableMapY.release();
-  m_kernel = params.morphology > 0
-                 ? cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * params.morphology + 1,
-                                                                         2 * params.morphology + 1))
-                 : cv::Mat();
+  m_kernel = OpeningKernel(params.morphology);
   m_configured = true;
   return std::nullopt;
+}
+
+Status Sensor::SetParams(const SensingParams& params) {
+  if (!m_configured) return MakeError({"sensing"}, "the sensor is not configured");
+  if (Status s = CheckSensingParams(params)) return s;
+  const std::vector<std::string> fixed = FixedKeysChanged(params);
+  if (!fixed.empty()) {
+    return MakeError({"sensing." + fixed.front()},
+                     "cannot change on a configured sensor (Configure it again)");
+  }
+  // the kernel and the table image maps follow the values they are built from
+  if (params.morphology != m_params.morphology) m_kernel = OpeningKernel(params.morphology);
+  if (params.tableCmPerPixel != m_params.tableCmPerPixel) {
+    m_tableMapX.release();
+    m_tableMapY.release();
+  }
+  m_params = params;
+  return std::nullopt;
+}
+
+std::vector<std::string> Sensor::FixedKeysChanged(const SensingParams& params) const {
+  std::vector<std::string> keys;
+  if (params.calibration != m_params.calibration) keys.emplace_back("calibration");
+  if (params.backgroundFrames != m_params.backgroundFrames) keys.emplace_back("background_frames");
+  return keys;
 }
 
 Status Sensor::SetBackground(const cv::Mat& background) {

@@ -350,28 +350,16 @@ SyntheticCamera::SyntheticCamera(const SyntheticCameraParams& params, const Tabl
   const int w = params.width, h = params.height;
   m_tableX.create(h, w, CV_32F);
   m_tableY.create(h, w, CV_32F);
-  m_gain.create(h, w, CV_32F);
-  m_background.create(h, w, CV_32F);
-  const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
-  const double rMax2 = cx * cx + cy * cy;
   // where each pixel looks on the table, and the illumination it sees
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
       const Vec2 t = m_model.CameraToTable(Vec2(u, v));
       m_tableX.at<float>(v, u) = static_cast<float>(t.x());
       m_tableY.at<float>(v, u) = static_cast<float>(t.y());
-      const double r2 = ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / rMax2;
-      m_gain.at<float>(v, u) = static_cast<float>(1.0 - params.vignetting * r2);
-      m_background.at<float>(v, u) = static_cast<float>(
-          params.background + params.gradient * (u / std::max(w - 1.0, 1.0) - 0.5));
     }
   }
-  // a bank of standard normal samples; frames draw their noise rows from random places in it
-  if (params.noise > 0.0) {
-    constexpr size_t kBankSize = size_t{1} << 18;
-    m_noiseBank.resize(std::max(kBankSize, static_cast<size_t>(4 * w)));
-    for (float& n : m_noiseBank) n = static_cast<float>(m_rng.Normal());
-  }
+  BuildIllumination();
+  if (params.noise > 0.0) DrawNoiseBank();
   // local pixel size from the map's finite differences
   m_cmPerPixel.create(h, w, CV_32F);
   for (int v = 0; v < h; ++v) {
@@ -386,6 +374,57 @@ SyntheticCamera::SyntheticCamera(const SyntheticCameraParams& params, const Tabl
       m_cmPerPixel.at<float>(v, u) = static_cast<float>(std::sqrt(std::abs(jxx * jyy - jxy * jyx)));
     }
   }
+}
+
+void SyntheticCamera::BuildIllumination() {
+  const int w = m_params.width, h = m_params.height;
+  // fresh buffers: a copied camera shares its maps with the original until they are rebuilt
+  m_gain = cv::Mat(h, w, CV_32F);
+  m_background = cv::Mat(h, w, CV_32F);
+  const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
+  const double rMax2 = cx * cx + cy * cy;
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const double r2 = ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / rMax2;
+      m_gain.at<float>(v, u) = static_cast<float>(1.0 - m_params.vignetting * r2);
+      m_background.at<float>(v, u) = static_cast<float>(
+          m_params.background + m_params.gradient * (u / std::max(w - 1.0, 1.0) - 0.5));
+    }
+  }
+}
+
+void SyntheticCamera::DrawNoiseBank() {
+  // a bank of standard normal samples; frames draw their noise rows from random places in it
+  constexpr size_t kBankSize = size_t{1} << 18;
+  m_noiseBank.resize(std::max(kBankSize, static_cast<size_t>(4 * m_params.width)));
+  for (float& n : m_noiseBank) n = static_cast<float>(m_rng.Normal());
+}
+
+Status SyntheticCamera::SetParams(const SyntheticCameraParams& params) {
+  const std::vector<std::string> fixed = FixedKeysChanged(params);
+  if (!fixed.empty()) {
+    return MakeError({"camera." + fixed.front()},
+                     "cannot change on a built camera (it fixes the image and the noise stream)");
+  }
+  const bool lighting = params.background != m_params.background ||
+                        params.gradient != m_params.gradient ||
+                        params.vignetting != m_params.vignetting;
+  m_params = params;
+  if (lighting) BuildIllumination();
+  // the bank is drawn the first time noise is asked for
+  if (m_params.noise > 0.0 && m_noiseBank.empty()) DrawNoiseBank();
+  return std::nullopt;
+}
+
+std::vector<std::string> SyntheticCamera::FixedKeysChanged(
+    const SyntheticCameraParams& params) const {
+  std::vector<std::string> keys;
+  if (params.width != m_params.width) keys.emplace_back("width");
+  if (params.height != m_params.height) keys.emplace_back("height");
+  if (params.distortion != m_params.distortion) keys.emplace_back("distortion");
+  if (params.perspective != m_params.perspective) keys.emplace_back("perspective");
+  if (params.seed != m_params.seed) keys.emplace_back("seed");
+  return keys;
 }
 
 cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo) {

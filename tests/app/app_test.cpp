@@ -295,19 +295,57 @@ TEST_F(AppTest, KeysQueueRequestsAppliedBetweenFrames) {
   EXPECT_FALSE(app.Tick());
 }
 
-TEST_F(AppTest, ParameterChangesRestartTheRunAndCopyAsToml) {
+TEST_F(AppTest, LiveParameterChangesKeepTheRunningLevel) {
+  App app;
+  ASSERT_FALSE(app.Open(Options(kTestData + "/box_goal.toml", "script")));
+  for (int i = 0; i < 20; ++i) ASSERT_TRUE(app.Tick());
+  ASSERT_EQ(app.simulation().stats().contacts, 1);
+  // paused, so that the change is the only thing that happens in the next Tick
+  app.RequestPause(true);
+  ASSERT_TRUE(app.Tick());
+  const int64_t frame = app.simulation().Frame();
+  const uint64_t world = app.simulation().world().StateHash();
+  const int particles = app.simulation().stats().particles;
+  ASSERT_GT(particles, 5);
+
+  // a threshold above the fingertip's brightness, and a tracking distance
+  LevelParams params = app.simulation().params();
+  params.sensing.threshold = 200.0;
+  params.tracking.maxDistance = 1.5;
+  app.RequestParams(params);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_EQ(app.tuneStatus(), "applied live: sensing.threshold, tracking.max_distance");
+  EXPECT_EQ(app.runError(), "");
+  // the run was not restarted: same frame, the world bit for bit as it was
+  EXPECT_EQ(app.simulation().Frame(), frame);
+  EXPECT_EQ(app.simulation().world().StateHash(), world);
+  EXPECT_EQ(app.simulation().params().sensing.threshold, 200.0);
+  EXPECT_EQ(app.simulation().params().tracking.maxDistance, 1.5);
+  const std::string toml = app.ChangedParamsToml();
+  EXPECT_NE(toml.find("[sensing]\nthreshold = 200\n"), std::string::npos) << toml;
+
+  // and the running pipeline uses it: the fingertip is no longer seen, its particles end
+  app.RequestPause(false);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_EQ(app.simulation().Frame(), frame + 1);
+  EXPECT_EQ(app.simulation().stats().contacts, 0);
+  EXPECT_EQ(app.simulation().stats().deleted, particles);
+}
+
+TEST_F(AppTest, ChangesARunningLevelCannotTakeRestartItAndBadValuesAreRejected) {
   App app;
   ASSERT_FALSE(app.Open(Options(kTestData + "/box_goal.toml", "script")));
   for (int i = 0; i < 5; ++i) ASSERT_TRUE(app.Tick());
   EXPECT_NE(app.ChangedParamsToml().find("# no parameter differs"), std::string::npos);
 
+  // substeps shape the physics world (no live setter): the run restarts with every change
   LevelParams params = app.simulation().params();
   params.physics.substeps = 6;
   params.proxies.mode = ProxyMode::kInstant;
   app.RequestParams(params);
   ASSERT_TRUE(app.Tick());
-  // the run restarted with them: one frame since
   EXPECT_EQ(app.simulation().Frame(), 1);
+  EXPECT_EQ(app.tuneStatus(), "restarted: physics.substeps cannot change on a running simulation");
   EXPECT_EQ(app.simulation().params().physics.substeps, 6);
   EXPECT_EQ(app.simulation().params().proxies.mode, ProxyMode::kInstant);
   const std::string toml = app.ChangedParamsToml();
@@ -316,14 +354,17 @@ TEST_F(AppTest, ParameterChangesRestartTheRunAndCopyAsToml) {
   // only what changed
   EXPECT_EQ(toml.find("frame_rate"), std::string::npos) << toml;
 
-  // the pipeline rejects more than 16 layers: the running parameters stay
+  // more than 16 layers is out of range: the running parameters and run stay
   LevelParams bad = app.simulation().params();
   bad.physics.layers = 40;
+  bad.tracking.maxDistance = 2.0;
   app.RequestParams(bad);
   ASSERT_TRUE(app.Tick());
   EXPECT_EQ(app.simulation().params().physics.layers, 8);
+  EXPECT_EQ(app.simulation().params().tracking.maxDistance, 4.0);
   EXPECT_EQ(app.simulation().Frame(), 2);
-  EXPECT_NE(app.runError(), "");
+  EXPECT_EQ(app.runError(), "physics.layers must be in [1, 16] (got 40)");
+  EXPECT_EQ(app.tuneStatus(), "rejected: physics.layers must be in [1, 16] (got 40)");
 }
 
 TEST_F(AppTest, RecordsInputAndTrace) {

@@ -113,6 +113,53 @@ TEST(ViewOptions, ParsesAListOfOverlays) {
   EXPECT_TRUE(ParseViewOptions("layer=x", options));
 }
 
+bool AnyOverlap(const std::vector<cv::Rect>& boxes) {
+  for (size_t i = 0; i < boxes.size(); ++i)
+    for (size_t j = i + 1; j < boxes.size(); ++j)
+      if ((boxes[i] & boxes[j]).area() > 0) return true;
+  return false;
+}
+
+TEST(SpreadLabels, MovesOverlappingLabelsApartAndKeepsFreeOnes) {
+  const cv::Size image(800, 600);
+  // three labels wanting one place, one overlapping them partly, one far away
+  const std::vector<cv::Rect> wanted = {{100, 100, 120, 30},
+                                        {100, 100, 120, 30},
+                                        {100, 100, 120, 30},
+                                        {150, 110, 80, 20},
+                                        {500, 400, 100, 30}};
+  const std::vector<cv::Rect> placed = SpreadLabels(wanted, image);
+  ASSERT_EQ(placed.size(), wanted.size());
+  EXPECT_FALSE(AnyOverlap(placed));
+  // the first and the free one keep their places; the others move straight up or down, the
+  // nearest free place first (below before above)
+  EXPECT_EQ(placed[0], wanted[0]);
+  EXPECT_EQ(placed[4], wanted[4]);
+  EXPECT_EQ(placed[1], wanted[1] + cv::Point(0, 30 + kLabelGap));
+  EXPECT_EQ(placed[2], wanted[2] - cv::Point(0, 30 + kLabelGap));
+  for (size_t i = 0; i < placed.size(); ++i) EXPECT_EQ(placed[i].x, wanted[i].x) << i;
+}
+
+TEST(SpreadLabels, StaysInsideTheImage) {
+  const cv::Size image(400, 300);
+  // at the bottom edge the second label goes above; one half outside comes in
+  const std::vector<cv::Rect> wanted = {{10, 270, 100, 30}, {10, 270, 100, 30}, {200, 290, 50, 20}};
+  const std::vector<cv::Rect> placed = SpreadLabels(wanted, image);
+  EXPECT_FALSE(AnyOverlap(placed));
+  EXPECT_EQ(placed[1].y, 270 - 30 - kLabelGap);
+  EXPECT_EQ(placed[2].y, 290 - 20 - kLabelGap);
+  for (const cv::Rect& r : placed) EXPECT_EQ(r & cv::Rect({0, 0}, image), r);
+}
+
+TEST(SpreadLabels, LabelsThatCannotAllFitKeepTheirPlace) {
+  // a picture with room for two 40 px labels only
+  const std::vector<cv::Rect> wanted(3, cv::Rect(0, 0, 50, 40));
+  const std::vector<cv::Rect> placed = SpreadLabels(wanted, {60, 90});
+  EXPECT_EQ(placed[0], wanted[0]);
+  EXPECT_EQ(placed[1].y, 40 + kLabelGap);
+  EXPECT_EQ(placed[2], wanted[2]);
+}
+
 class TableViewTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -186,6 +233,32 @@ TEST_F(TableViewTest, DrawsTheGoalZone) {
   EXPECT_GT(goal.count, 4 * 10 * map.PixelsPerCm({50, 35}));
   // the box is far from the zone: the goal is not met
   EXPECT_EQ(FindColor(picture, view_colors::kGoalMet, kColorTolerance).count, 0);
+}
+
+TEST_F(TableViewTest, GoalsSharingAZoneAndLabelGetSeparateLabels) {
+  // the level's goal, and a second goal for the same object, zone and label
+  TableView view;
+  const cv::Mat one = view.Draw(sim, map, kSize, {});
+  Level twoGoals = level;
+  twoGoals.goals.push_back(twoGoals.goals[0]);
+  Simulation twin;
+  ASSERT_FALSE(twin.Start(twoGoals, twoGoals.params));
+  for (int i = 0; i < kFrames; ++i) ASSERT_FALSE(twin.StepScript());
+  const cv::Mat two = view.Draw(twin, map, kSize, {});
+
+  // the goal colour inside the zone (its 2 px outline left out): text and bars only
+  const cv::Point2d lo = map.ToDisplay({45, 30});
+  const cv::Point2d hi = map.ToDisplay({55, 40});
+  const cv::Rect inside(cv::Point(static_cast<int>(lo.x) + 4, static_cast<int>(hi.y) + 4),
+                        cv::Point(static_cast<int>(hi.x) - 4, static_cast<int>(lo.y) - 4));
+  const test::ColorPixels single = FindColor(one(inside), view_colors::kGoal, kColorTolerance);
+  const test::ColorPixels pair = FindColor(two(inside), view_colors::kGoal, kColorTolerance);
+  ASSERT_GT(single.count, 50);
+  // two labels one above the other: more than twice as tall as one, and twice the ink or more
+  // (each names its object, so each is wider than the one alone)
+  EXPECT_GE(pair.bounds.height, 2 * single.bounds.height + kLabelGap - 1)
+      << single.bounds << " " << pair.bounds;
+  EXPECT_GT(pair.count, 2 * single.count);
 }
 
 TEST_F(TableViewTest, TableAndOutsideHaveTheirColours) {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace pg {
 namespace {
 
@@ -88,6 +90,39 @@ TEST(Params, ChangedFieldsAsToml) {
             "[sample]\nlength = 4\ncolor = \"green\"\n");
 }
 
+TEST(Params, CheckFieldsNamesTheFirstValueOutOfItsRange) {
+  Sample s;
+  EXPECT_FALSE(CheckFields(SectionOf(s)));
+  // values set in code, not through text, are checked against the same ranges
+  s.count = 0;
+  s.length = 12.0;
+  const Status both = CheckFields(SectionOf(s));
+  ASSERT_TRUE(both);
+  EXPECT_EQ(both->message, "sample.length must be in [0, 10] cm (got 12)");
+  s.length = std::nan("");
+  const Status nan = CheckFields(SectionOf(s));
+  ASSERT_TRUE(nan);
+  EXPECT_EQ(nan->message, "sample.length must be in [0, 10] cm (got nan)");
+  s.length = 1.0;
+  const Status count = CheckFields(SectionOf(s));
+  ASSERT_TRUE(count);
+  EXPECT_EQ(count->message, "sample.count must be in [1, 5] (got 0)");
+  s.count = 1;
+  s.color = static_cast<Color>(2);
+  const Status choice = CheckFields(SectionOf(s));
+  ASSERT_TRUE(choice);
+  EXPECT_EQ(choice->message, "sample.color must be one of red, green (got index 2)");
+}
+
+TEST(Params, ChangedKeysListsExactlyTheFieldsThatDiffer) {
+  Sample a, b;
+  EXPECT_TRUE(ChangedKeys(SectionOf(a), SectionOf(b)).empty());
+  // the smallest change of a double counts
+  b.length = std::nextafter(a.length, 10.0);
+  b.path = "c.yaml";
+  EXPECT_EQ(ChangedKeys(SectionOf(a), SectionOf(b)), (std::vector<std::string>{"length", "path"}));
+}
+
 // a struct with the geometric field kinds: an angle, a vector and a point list
 struct Shape {
   double heading = 0.5 * kPi;  // rad
@@ -164,6 +199,25 @@ TEST(Params, AngleVisitedButUnchangedKeepsItsExactRadians) {
   s.heading = 0.1;
   EXPECT_FALSE(SetFieldFromText(SectionOf(s), "pos", "[0, 0]"));
   EXPECT_EQ(s.heading, 0.1);
+}
+
+TEST(Params, CheckFieldsCoversAnglesVectorsAndPoints) {
+  Shape s;
+  EXPECT_FALSE(CheckFields(SectionOf(s)));
+  s.outline[1] = Vec2(6, 0);
+  const Status point = CheckFields(SectionOf(s));
+  ASSERT_TRUE(point);
+  EXPECT_EQ(point->message, "shape.outline must have each coordinate in [-5, 5] cm (got [6, 0])");
+  s.pos = Vec2(0, -11);
+  const Status pos = CheckFields(SectionOf(s));
+  ASSERT_TRUE(pos);
+  EXPECT_EQ(pos->message, "shape.pos must have each coordinate in [-10, 10] cm (got [0, -11])");
+  // angles are checked in degrees, as they are written
+  s.heading = DegToRad(400);
+  const Status angle = CheckFields(SectionOf(s));
+  ASSERT_TRUE(angle);
+  EXPECT_EQ(angle->message.rfind("shape.heading must be in [-360, 360] deg (got 4", 0), 0u)
+      << angle->message;
 }
 
 TEST(Params, TypeNamesCoverEveryKind) {

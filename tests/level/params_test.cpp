@@ -50,5 +50,20 @@ TEST(LevelParams, SetParamByDottedKey) {
   EXPECT_EQ(range->message, "physics.layers: value 17 is out of range [1, 16]");
 }
 
+TEST(LevelParams, CheckParamsAcceptsTheDefaultsAndNamesTheFirstBadValue) {
+  LevelParams p;
+  EXPECT_FALSE(CheckParams(p));
+  p.tracking.maxDistance = -1.0;
+  p.physics.substeps = 0;
+  // sections in their documented order: physics comes before tracking
+  const Status bad = CheckParams(p);
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->message, "physics.substeps must be in [1, 64] (got 0)");
+  p.physics.substeps = 4;
+  const Status tracking = CheckParams(p);
+  ASSERT_TRUE(tracking);
+  EXPECT_EQ(tracking->message, "tracking.max_distance must be in [0, 100] cm (got -1)");
+}
+
 }  // namespace
 }  // namespace pg

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace pg {
 namespace {
 
@@ -103,6 +105,187 @@ TEST(Simulation, FailedStartKeepsNothing) {
   const Status bad = sim.Start(level, level.params);
   ASSERT_TRUE(bad);
   EXPECT_THAT(bad->Format(), HasSubstr("/nonexistent/calibration.yaml"));
+}
+
+// the run's state as a fingerprint: objects and particles bit for bit, and the contacts' ids
+struct RunState {
+  int64_t frame = 0;
+  uint64_t world = 0;
+  std::vector<ContactId> contacts;
+  bool operator==(const RunState&) const = default;
+};
+
+RunState StateOf(const Simulation& sim) {
+  RunState s;
+  s.frame = sim.Frame();
+  s.world = sim.world().StateHash();
+  for (const Contact& c : sim.contacts().contacts) s.contacts.push_back(c.id);
+  return s;
+}
+
+int CountState(const ContactSet& set, ContactState state) {
+  int n = 0;
+  for (const Contact& c : set.contacts) n += c.state == state ? 1 : 0;
+  return n;
+}
+
+TEST(Simulation, RetuneAppliesLiveParametersWithoutResettingTheRun) {
+  const Level level = BoxLevel();
+  Simulation sim, reference;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  ASSERT_FALSE(reference.Start(level, level.params));
+  for (int i = 0; i < 20; ++i) {
+    ASSERT_FALSE(sim.StepScript());
+    ASSERT_FALSE(reference.StepScript());
+  }
+  const RunState before = StateOf(sim);
+  ASSERT_EQ(before.contacts.size(), 2u);
+
+  // tracking: no centroid may move at all and keep its id
+  LevelParams params = sim.params();
+  params.tracking.maxDistance = 0.0;
+  Result<RetuneReport> report = sim.Retune(params);
+  ASSERT_TRUE(report.ok()) << report.error().Format();
+  EXPECT_EQ(report.value().live, std::vector<std::string>{"tracking.max_distance"});
+  EXPECT_TRUE(report.value().restart.empty());
+  // nothing was reset: same frame, same world bit for bit, same contacts
+  EXPECT_EQ(StateOf(sim), before);
+  EXPECT_EQ(sim.params().tracking.maxDistance, 0.0);
+
+  // and the new value is in effect: the moving fingertips lose their ids, where the reference
+  // keeps them
+  ASSERT_FALSE(sim.StepScript());
+  ASSERT_FALSE(reference.StepScript());
+  EXPECT_EQ(sim.Frame(), 21);
+  EXPECT_EQ(CountState(reference.contacts(), ContactState::kContinuing), 2);
+  EXPECT_EQ(CountState(sim.contacts(), ContactState::kContinuing), 0);
+  EXPECT_EQ(CountState(sim.contacts(), ContactState::kNew), 2);
+  EXPECT_EQ(CountState(sim.contacts(), ContactState::kLifted), 2);
+}
+
+TEST(Simulation, RetuneChangesTheSensorInPlace) {
+  const Level level = BoxLevel();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  for (int i = 0; i < 5; ++i) ASSERT_FALSE(sim.StepScript());
+  ASSERT_EQ(sim.stats().contacts, 2);
+  const RunState before = StateOf(sim);
+
+  // a threshold above full contact (220 grey on a 40 grey table) sees nothing
+  LevelParams params = sim.params();
+  params.sensing.threshold = 200.0;
+  params.sensing.morphology = 2;
+  Result<RetuneReport> report = sim.Retune(params);
+  ASSERT_TRUE(report.ok()) << report.error().Format();
+  EXPECT_EQ(report.value().live,
+            (std::vector<std::string>{"sensing.threshold", "sensing.morphology"}));
+  EXPECT_EQ(StateOf(sim), before);
+  ASSERT_FALSE(sim.StepScript());
+  EXPECT_EQ(sim.stats().contacts, 0);
+  EXPECT_EQ(sim.Frame(), 6);
+
+  // back to the level's threshold: the fingertips are seen again, as new contacts
+  params.sensing.threshold = level.params.sensing.threshold;
+  ASSERT_TRUE(sim.Retune(params).ok());
+  ASSERT_FALSE(sim.StepScript());
+  EXPECT_EQ(sim.stats().contacts, 2);
+}
+
+TEST(Simulation, RetuneSwitchesTheProxyModeOnTheRunningWorld) {
+  const Level level = BoxLevel();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  for (int i = 0; i < 5; ++i) ASSERT_FALSE(sim.StepScript());
+  const int persistent = sim.stats().particles;
+  ASSERT_GT(persistent, 20);
+  LevelParams params = sim.params();
+  params.proxies.mode = ProxyMode::kInstant;
+  Result<RetuneReport> report = sim.Retune(params);
+  ASSERT_TRUE(report.ok()) << report.error().Format();
+  EXPECT_EQ(report.value().live, std::vector<std::string>{"proxies.mode"});
+  // the next frame ends every persistent particle and seeds the per-frame ones from the image
+  ASSERT_FALSE(sim.StepScript());
+  EXPECT_EQ(sim.stats().deleted, persistent);
+  EXPECT_GT(sim.stats().created, 0);
+  EXPECT_FALSE(sim.contours().tableImage.image.empty());
+  EXPECT_EQ(sim.Frame(), 6);
+}
+
+TEST(Simulation, RetunedCameraLightingKeepsTheBackgroundItGaveTheSensor) {
+  const Level level = BoxLevel();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  for (int i = 0; i < 5; ++i) ASSERT_FALSE(sim.StepScript());
+  // a much brighter table: against the old background the whole table would be one contact
+  LevelParams params = sim.params();
+  params.camera.background = 120.0;
+  params.camera.contactLevel = 250.0;
+  params.camera.noise = 0.0;
+  Result<RetuneReport> report = sim.Retune(params);
+  ASSERT_TRUE(report.ok()) << report.error().Format();
+  EXPECT_TRUE(report.value().restart.empty());
+  ASSERT_FALSE(sim.StepScript());
+  EXPECT_EQ(sim.camera().params().background, 120.0);
+  EXPECT_EQ(sim.stats().contacts, 2);
+  // the camera renders the new level: the clear-table corner pixel is about 120 dimmed by the
+  // vignetting (0.25 at the corners) and the gradient (-6 at the left)
+  const double corner = sim.cameraImage().at<uint8_t>(0, 0);
+  EXPECT_NEAR(corner, (120.0 - 6.0) * 0.75, 1.0);
+}
+
+TEST(Simulation, RetuneReportsParametersThatNeedARestartAndAppliesNothing) {
+  const Level level = BoxLevel();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  for (int i = 0; i < 10; ++i) ASSERT_FALSE(sim.StepScript());
+  const RunState before = StateOf(sim);
+
+  LevelParams params = sim.params();
+  params.physics.particleFriction = 0.3;
+  params.table.width = 70.0;
+  params.camera.width = 320;
+  params.sensing.calibration = "other.yaml";
+  params.tracking.maxDistance = 1.0;  // live, but not applied with the others
+  Result<RetuneReport> report = sim.Retune(params);
+  ASSERT_TRUE(report.ok()) << report.error().Format();
+  EXPECT_EQ(report.value().restart,
+            (std::vector<std::string>{"table.width", "physics.particle_friction",
+                                      "sensing.calibration", "camera.width"}));
+  EXPECT_EQ(report.value().live, std::vector<std::string>{"tracking.max_distance"});
+  EXPECT_EQ(StateOf(sim), before);
+  EXPECT_EQ(sim.params().physics.particleFriction, level.params.physics.particleFriction);
+  EXPECT_EQ(sim.params().tracking.maxDistance, level.params.tracking.maxDistance);
+  EXPECT_EQ(sim.camera().params().width, level.params.camera.width);
+}
+
+TEST(Simulation, RetuneRejectsBadValuesAndKeepsTheParameters) {
+  const Level level = BoxLevel();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  ASSERT_FALSE(sim.StepScript());
+  LevelParams params = sim.params();
+  params.tracking.maxDistance = 2.0;
+  params.sensing.minArea = std::nan("");
+  const Result<RetuneReport> nan = sim.Retune(params);
+  ASSERT_FALSE(nan.ok());
+  EXPECT_EQ(nan.error().Format(), "sensing.min_area must be in [0, 1000] cm^2 (got nan)");
+  params.sensing.minArea = 0.5;
+  params.physics.substeps = 0;
+  const Result<RetuneReport> zero = sim.Retune(params);
+  ASSERT_FALSE(zero.ok());
+  EXPECT_EQ(zero.error().Format(), "physics.substeps must be in [1, 64] (got 0)");
+  EXPECT_EQ(sim.params().tracking.maxDistance, level.params.tracking.maxDistance);
+  EXPECT_EQ(sim.params().physics.substeps, level.params.physics.substeps);
+  // and the run goes on as before
+  ASSERT_FALSE(sim.StepScript());
+  EXPECT_EQ(sim.Frame(), 2);
+}
+
+TEST(Simulation, RetuneBeforeStartIsAnError) {
+  Simulation sim;
+  const Result<RetuneReport> r = sim.Retune(LevelParams{});
+  ASSERT_FALSE(r.ok());
+  EXPECT_THAT(r.error().message, HasSubstr("not started"));
 }
 
 }  // namespace

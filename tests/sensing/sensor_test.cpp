@@ -231,6 +231,66 @@ TEST(Sensor, SmallContactsAreRemoved) {
   EXPECT_NEAR(r.value().blobs[0].centroid.x(), 40.0, 0.1);
 }
 
+TEST(Sensor, SetParamsChangesAConfiguredSensorAndKeepsItsBackground) {
+  SensingParams sp;
+  sp.minArea = 0.5;
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const cv::Mat background = rig.sensor.Background().clone();
+  const ContactShape shapes[] = {Circle({20.0, 20.0}, 0.3), Circle({40.0, 20.0}, 0.5)};
+  const cv::Mat frame = rig.camera.Render(shapes);
+  Result<ContourFrame> before = rig.sensor.Process(frame, 0, 0.0, true);
+  ASSERT_TRUE(before);
+  ASSERT_EQ(before.value().blobs.size(), 1u);
+
+  // the 0.28 cm^2 contact is kept, contours are sampled twice as far apart, the table image
+  // has pixels twice as large
+  sp.minArea = 0.1;
+  sp.spacing = 0.6;
+  sp.tableCmPerPixel = 0.2;
+  sp.morphology = 0;
+  ASSERT_FALSE(rig.sensor.SetParams(sp));
+  EXPECT_EQ(rig.sensor.params().minArea, 0.1);
+  Result<ContourFrame> after = rig.sensor.Process(frame, 1, 0.0, true);
+  ASSERT_TRUE(after);
+  ASSERT_EQ(after.value().blobs.size(), 2u);
+  const Blob& big = before.value().blobs[0];
+  const Blob& same = after.value().blobs[0];
+  EXPECT_NEAR(same.centroid.x(), 40.0, 0.1);
+  // a 3.1 cm circumference: about 10 points at 0.3 cm, 5 at 0.6 cm
+  EXPECT_LT(same.contour.cols(), big.contour.cols());
+  EXPECT_EQ(after.value().tableImage.image.cols, 305);  // 61 cm / 0.2 cm
+  EXPECT_EQ(cv::norm(rig.sensor.Background(), background, cv::NORM_INF), 0.0);
+}
+
+TEST(Sensor, SetParamsRejectsWhatOnlyConfigureCanChange) {
+  Sensor unconfigured;
+  const Status none = unconfigured.SetParams(SensingParams{});
+  ASSERT_TRUE(none);
+  EXPECT_THAT(none->Format(), HasSubstr("not configured"));
+
+  Rig rig;
+  SensingParams sp = rig.sensor.params();
+  sp.threshold = 90.0;
+  sp.calibration = "other.yaml";
+  sp.backgroundFrames = 3;
+  EXPECT_EQ(rig.sensor.FixedKeysChanged(sp),
+            (std::vector<std::string>{"calibration", "background_frames"}));
+  const Status fixed = rig.sensor.SetParams(sp);
+  ASSERT_TRUE(fixed);
+  EXPECT_EQ(fixed->Format(),
+            "sensing.calibration: cannot change on a configured sensor (Configure it again)");
+  sp = rig.sensor.params();
+  sp.threshold = 90.0;
+  sp.spacing = 0.0;
+  const Status bad = rig.sensor.SetParams(sp);
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->Format(), "sensing.spacing: must be > 0");
+  // nothing changed
+  EXPECT_EQ(rig.sensor.params().threshold, SensingParams().threshold);
+  EXPECT_TRUE(rig.sensor.FixedKeysChanged(rig.sensor.params()).empty());
+}
+
 TEST(Sensor, BlobsAreLargestFirstAndTouchingShapesMerge) {
   Rig rig;
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));

@@ -151,6 +151,55 @@ TEST(SyntheticCamera, DeterministicForASeed) {
   EXPECT_LT(cv::norm(f0, f1, cv::NORM_L2) / std::sqrt(640.0 * 480.0), 3.0 * std::sqrt(2.0) * 1.1);
 }
 
+TEST(SyntheticCamera, SetParamsChangesLightingAndNoiseBetweenFrames) {
+  const TableParams table;
+  SyntheticCameraParams p;
+  p.noise = 0.0;
+  SyntheticCamera camera(p, table);
+  ContactShape disc = Shape(ShapeKind::kCircle, {30.5, 23.0});
+  disc.radius = 2.0;
+  const ContactShape shapes[] = {disc};
+  const cv::Mat quiet = camera.Render(shapes);
+
+  // a brighter, flatter table and a dimmer contact, the same as a camera built with them
+  p.background = 70.0;
+  p.gradient = 0.0;
+  p.vignetting = 0.0;
+  p.contactLevel = 180.0;
+  ASSERT_FALSE(camera.SetParams(p));
+  EXPECT_EQ(camera.params().background, 70.0);
+  const SyntheticCamera built(p, table);
+  EXPECT_EQ(cv::norm(camera.Background(), built.Background(), cv::NORM_INF), 0.0);
+  const cv::Mat lit = camera.Render(shapes);
+  EXPECT_NEAR(lit.at<uint8_t>(2, 2), 70.0, 1.0);
+  EXPECT_NEAR(lit.at<uint8_t>(240, 320), 180.0, 1.0);
+  EXPECT_GT(cv::norm(lit, quiet, cv::NORM_INF), 20.0);
+
+  // noise asked for after the start: consecutive frames now differ
+  p.noise = 3.0;
+  ASSERT_FALSE(camera.SetParams(p));
+  const cv::Mat f0 = camera.Render(shapes), f1 = camera.Render(shapes);
+  EXPECT_GT(cv::norm(f0, f1, cv::NORM_INF), 0.0);
+}
+
+TEST(SyntheticCamera, SetParamsRejectsWhatFixesTheImageAndChangesNothing) {
+  const TableParams table;
+  SyntheticCameraParams p;
+  SyntheticCamera camera(p, table);
+  SyntheticCameraParams next = p;
+  next.noise = 1.0;
+  next.width = 320;
+  next.seed = 9;
+  EXPECT_EQ(camera.FixedKeysChanged(next), (std::vector<std::string>{"width", "seed"}));
+  const Status s = camera.SetParams(next);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->Format(),
+            "camera.width: cannot change on a built camera (it fixes the image and the noise "
+            "stream)");
+  EXPECT_EQ(camera.params().noise, p.noise);
+  EXPECT_EQ(camera.Render({}).cols, 640);
+}
+
 TEST(SyntheticCamera, DistortionAndPerspectiveMoveTheImage) {
   const TableParams table;
   SyntheticCameraParams p;

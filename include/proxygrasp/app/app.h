@@ -67,9 +67,15 @@ class App {
   /// Writes the presented window (drawing and UI) to a PNG at the next Tick; "" picks
   /// outDir/<level>_<frame>.png. The outcome is in screenshotStatus() after that Tick.
   void RequestScreenshot(const std::string& path = "");
-  /// Runs the level with these parameters from the next Tick (what a finished panel edit does):
-  /// the run restarts; parameters the pipeline rejects keep the running ones and set runError().
+  /// Adopts these parameters at the next Tick (what a finished panel edit does): the running
+  /// simulation takes the live ones in place and keeps its state (Simulation::Retune); a change
+  /// only a new run can make restarts the level with all of them. Values out of range keep the
+  /// running parameters and set runError(). tuneStatus() says which of the three happened.
   void RequestParams(const LevelParams& params);
+  /// What the last parameter change did: "applied live: tracking.max_distance", "restarted:
+  /// physics.substeps cannot change on a running simulation" or "rejected: <error>"; "" before
+  /// any change.
+  const std::string& tuneStatus() const;
   /// The parameters that differ from the level file's, as TOML tables (what "Copy as TOML" puts
   /// on the clipboard); a comment line when none differ.
   std::string ChangedParamsToml() const;

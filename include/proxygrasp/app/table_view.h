@@ -12,6 +12,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -71,6 +72,15 @@ struct Overlay {
 /// is the fraction of the start's distance to the zone covered, angle progress the fraction of the
 /// start's angle error removed; a goal with both takes the smaller.
 double GoalProgress(const Goal& goal, const Pose2& start, const Pose2& now);
+
+/// Pixels kept free between two goal labels moved apart by SpreadLabels.
+inline constexpr int kLabelGap = 6;
+
+/// Places label boxes (display px) so that no two overlap: each box in turn keeps the place it
+/// wants when that overlaps no box placed before it and lies inside the image, otherwise it takes
+/// the nearest such place straight above or below, in steps of its height plus kLabelGap (below
+/// first). A box with no free place anywhere keeps the place it wants.
+std::vector<cv::Rect> SpreadLabels(std::span<const cv::Rect> wanted, cv::Size image);
 
 /// Colours of the drawing (BGR), shared with tests that look for them.
 namespace view_colors {

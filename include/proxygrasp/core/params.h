@@ -82,6 +82,15 @@ std::vector<FieldInfo> ListFields(const ParamSection& section);
 Status SetFieldFromText(const ParamSection& section, const std::string& key,
                         const std::string& text);
 
+/// Checks every field of a section against its description: numbers (NaN included) and points
+/// within their range, choices among their names. The first problem is an Error
+/// "section.key must be in [min, max] unit (got value)"; nullopt when every field is valid.
+Status CheckFields(const ParamSection& section);
+
+/// The keys of the fields whose values differ between two descriptions of the same struct (exact
+/// values, as ListFields writes them), in description order.
+std::vector<std::string> ChangedKeys(const ParamSection& a, const ParamSection& b);
+
 /// Writes the fields whose values differ from `defaults` as a TOML table ("[name]\nkey = value\n"),
 /// or "" when none differ.
 std::string ChangedFieldsAsToml(const ParamSection& current, const ParamSection& defaults);

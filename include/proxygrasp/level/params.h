@@ -24,6 +24,10 @@ struct LevelParams {
 /// The sections of p, in the order docs/levels.md lists them. The sections refer to p.
 std::vector<ParamSection> Sections(LevelParams& p);
 
+/// Checks every parameter against its described range, section by section (CheckFields). The
+/// first problem is an Error "physics.substeps must be in [1, 64] (got 0)".
+Status CheckParams(const LevelParams& p);
+
 /// Sets "section.key" to a value given as text, as `--set section.key=value` does.
 Status SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text);
 

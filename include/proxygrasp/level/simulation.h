@@ -37,12 +37,30 @@ struct FrameStats {
   double totalMs = 0.0;  ///< sensing to physics
 };
 
+/// What Simulation::Retune did with a change of parameters. Keys are "section.key".
+struct RetuneReport {
+  std::vector<std::string> live;     ///< changes the running stages take in place; in effect
+                                     ///< when `restart` is empty
+  std::vector<std::string> restart;  ///< changes only Start can make; when there are any,
+                                     ///< nothing was applied, not even the live ones
+};
+
 /// One run of a level through the pipeline.
 class Simulation {
  public:
   /// Builds the camera, sensor, tracker, proxies and world from the level's objects and the run's
   /// parameters. On error nothing is kept and the Error names the level file where it can.
   Status Start(const Level& level, const LevelParams& params);
+
+  /// Adopts new parameters between frames and keeps the run's state: objects, particles, contacts,
+  /// the stages' memory and the frame count stay as they are. Every [proxies] and [tracking]
+  /// parameter changes live, [sensing] all but calibration and background_frames, [camera] its
+  /// lighting and noise. [table], [physics] (LayeredWorld takes its parameters only at Build)
+  /// and the camera's size, lens, keystone and seed need a rebuild: when any of those changed,
+  /// nothing is applied and report.restart names them (Start applies everything). A value out of
+  /// its range is an Error naming it ("physics.substeps must be in [1, 64] (got 0)"), and nothing
+  /// changes.
+  Result<RetuneReport> Retune(const LevelParams& params);
 
   /// One frame whose contacts are the level's script at the current time.
   Status StepScript();
@@ -100,6 +118,7 @@ class Simulation {
   std::vector<ContactShape> m_shapes;
   std::vector<int> m_shapeScript;
   std::vector<std::pair<ContactId, int>> m_contactScript;  // sorted by contact id
+  bool m_backgroundFromCamera = false;  // the sensor's background is the camera's clear table
 };
 
 }  // namespace pg

@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace pg {
@@ -24,6 +25,16 @@ class Sensor {
   /// Same, with a calibration already in memory; `source` names it in errors.
   Status Configure(const SensingParams& params, const TableParams& table,
                    const Calibration& calibration, const std::string& source = "calibration");
+
+  /// Changes the parameters of a configured sensor between frames, keeping its calibration and
+  /// background: the threshold mode and levels, morphology, min_area, spacing, subpixel and
+  /// table_cm_per_pixel take effect from the next frame. A change of what only Configure can
+  /// apply (FixedKeysChanged) or an invalid value is an Error, and nothing changes.
+  Status SetParams(const SensingParams& params);
+  /// The keys of the parameters that differ between `params` and those in use and that SetParams
+  /// cannot change: "calibration" (read by Configure) and "background_frames" (used once, when
+  /// the background is captured).
+  std::vector<std::string> FixedKeysChanged(const SensingParams& params) const;
 
   /// Processes one CV_8UC1 frame of the configured size. A wrong size or type, or an empty frame,
   /// is an Error naming the frame index and what was expected. While the background is being

@@ -4,6 +4,7 @@
 // reports the true outlines so tests can measure the sensing pipeline against them.
 #pragma once
 
+#include "proxygrasp/core/error.h"
 #include "proxygrasp/core/geometry.h"
 #include "proxygrasp/core/rng.h"
 #include "proxygrasp/core/table.h"
@@ -13,6 +14,7 @@
 #include <opencv2/core.hpp>
 
 #include <span>
+#include <string>
 #include <vector>
 
 namespace pg {
@@ -57,12 +59,25 @@ class SyntheticCamera {
   /// The clear-table image without noise (what averaging many empty frames gives), CV_8UC1.
   cv::Mat Background() const;
 
+  /// Changes the lighting and noise between frames: background, contact_level, halo_level,
+  /// halo_width, vignetting, gradient and noise take effect from the next Render (and Background).
+  /// A change of what fixes the image or the noise stream (FixedKeysChanged) is an Error and
+  /// nothing changes.
+  Status SetParams(const SyntheticCameraParams& params);
+  /// The keys of the parameters that differ between `params` and those in use and that SetParams
+  /// cannot change: "width", "height", "distortion", "perspective" (the camera model) and "seed".
+  std::vector<std::string> FixedKeysChanged(const SyntheticCameraParams& params) const;
+
   /// The true camera model: intrinsics, distortion and the camera -> table homography.
   const CameraModel& model() const { return m_model; }
-  /// The parameters the camera was made with.
+  /// The parameters in use.
   const SyntheticCameraParams& params() const { return m_params; }
 
  private:
+  // the vignetting gain and background level of every pixel, from m_params
+  void BuildIllumination();
+  // fills the noise bank from the generator
+  void DrawNoiseBank();
   // composes contact coverage c and halo h (both CV_32F, 0..1) into a noisy 8-bit frame
   cv::Mat Compose(const cv::Mat& contact, const cv::Mat& halo);
 
