@@ -38,15 +38,17 @@ Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
   // every changed key, and whether its stage can take it while running
   const std::vector<std::string> sensorFixed = m_sensor.FixedKeysChanged(params.sensing);
   const std::vector<std::string> cameraFixed = m_camera->FixedKeysChanged(params.camera);
+  const std::vector<std::string> physicsFixed = m_world.FixedKeysChanged(params.physics);
   auto fixed = [&](const std::string& section, const std::string& key) {
-    // the table shapes the walls, the sensor's mapping and the camera; LayeredWorld has no
-    // setter: its parameters are taken by Build only
-    if (section == "table" || section == "physics") return true;
+    // the table shapes the walls, the sensor's mapping and the camera
+    if (section == "table") return true;
     const auto in = [&key](const std::vector<std::string>& keys) {
       return std::find(keys.begin(), keys.end(), key) != keys.end();
     };
     if (section == "sensing") return in(sensorFixed);
     if (section == "camera") return in(cameraFixed);
+    // the frame rate is also the script's and the camera's clock: a change restarts the run
+    if (section == "physics") return key == "frame_rate" || in(physicsFixed);
     return false;  // proxies and tracking take their parameters every frame
   };
   RetuneReport report;
@@ -65,6 +67,7 @@ Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
   // keys were checked above, so neither rejects it); the others read m_params every frame
   if (Status s = m_sensor.SetParams(params.sensing)) return *s;
   if (Status s = m_camera->SetParams(params.camera)) return *s;
+  if (Status s = m_world.SetParams(params.physics)) return *s;
   // a background taken from the camera's clear table follows its lighting
   const bool lighting = params.camera.background != m_params.camera.background ||
                         params.camera.gradient != m_params.camera.gradient ||

@@ -338,18 +338,18 @@ TEST_F(AppTest, ChangesARunningLevelCannotTakeRestartItAndBadValuesAreRejected) 
   for (int i = 0; i < 5; ++i) ASSERT_TRUE(app.Tick());
   EXPECT_NE(app.ChangedParamsToml().find("# no parameter differs"), std::string::npos);
 
-  // substeps shape the physics world (no live setter): the run restarts with every change
+  // the layer count shapes the physics world: the run restarts with every change
   LevelParams params = app.simulation().params();
-  params.physics.substeps = 6;
+  params.physics.layers = 6;
   params.proxies.mode = ProxyMode::kInstant;
   app.RequestParams(params);
   ASSERT_TRUE(app.Tick());
   EXPECT_EQ(app.simulation().Frame(), 1);
-  EXPECT_EQ(app.tuneStatus(), "restarted: physics.substeps cannot change on a running simulation");
-  EXPECT_EQ(app.simulation().params().physics.substeps, 6);
+  EXPECT_EQ(app.tuneStatus(), "restarted: physics.layers cannot change on a running simulation");
+  EXPECT_EQ(app.simulation().params().physics.layers, 6);
   EXPECT_EQ(app.simulation().params().proxies.mode, ProxyMode::kInstant);
   const std::string toml = app.ChangedParamsToml();
-  EXPECT_NE(toml.find("[physics]\nsubsteps = 6\n"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("[physics]\nlayers = 6\n"), std::string::npos) << toml;
   EXPECT_NE(toml.find("[proxies]\nmode = \"instant\"\n"), std::string::npos) << toml;
   // only what changed
   EXPECT_EQ(toml.find("frame_rate"), std::string::npos) << toml;
@@ -360,7 +360,7 @@ TEST_F(AppTest, ChangesARunningLevelCannotTakeRestartItAndBadValuesAreRejected) 
   bad.tracking.maxDistance = 2.0;
   app.RequestParams(bad);
   ASSERT_TRUE(app.Tick());
-  EXPECT_EQ(app.simulation().params().physics.layers, 8);
+  EXPECT_EQ(app.simulation().params().physics.layers, 6);  // the restart above set 6
   EXPECT_EQ(app.simulation().params().tracking.maxDistance, 4.0);
   EXPECT_EQ(app.simulation().Frame(), 2);
   EXPECT_EQ(app.runError(), "physics.layers must be in [1, 16] (got 40)");

@@ -163,6 +163,31 @@ TEST(Simulation, RetuneAppliesLiveParametersWithoutResettingTheRun) {
   EXPECT_EQ(CountState(sim.contacts(), ContactState::kLifted), 2);
 }
 
+TEST(Simulation, RetuneChangesThePhysicsInPlace) {
+  const Level level = BoxLevel();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  for (int i = 0; i < 20; ++i) ASSERT_FALSE(sim.StepScript());
+  const RunState before = StateOf(sim);
+  LevelParams params = sim.params();
+  params.physics.particleFriction = 0.3;
+  params.physics.substeps = 6;
+  Result<RetuneReport> report = sim.Retune(params);
+  ASSERT_TRUE(report.ok()) << report.error().Format();
+  EXPECT_EQ(report.value().live,
+            (std::vector<std::string>{"physics.substeps", "physics.particle_friction"}));
+  EXPECT_TRUE(report.value().restart.empty());
+  EXPECT_EQ(StateOf(sim), before);
+  // the world runs with them from the next frame
+  EXPECT_EQ(sim.world().Params().substeps, 6);
+  EXPECT_EQ(sim.world().Params().particleFriction, 0.3);
+  // the frame rate is the script's clock too: it restarts
+  params.physics.frameRate = 30;
+  report = sim.Retune(params);
+  ASSERT_TRUE(report.ok());
+  EXPECT_EQ(report.value().restart, std::vector<std::string>{"physics.frame_rate"});
+}
+
 TEST(Simulation, RetuneChangesTheSensorInPlace) {
   const Level level = BoxLevel();
   Simulation sim;
@@ -241,7 +266,7 @@ TEST(Simulation, RetuneReportsParametersThatNeedARestartAndAppliesNothing) {
   const RunState before = StateOf(sim);
 
   LevelParams params = sim.params();
-  params.physics.particleFriction = 0.3;
+  params.physics.layers = 6;
   params.table.width = 70.0;
   params.camera.width = 320;
   params.sensing.calibration = "other.yaml";
@@ -249,11 +274,12 @@ TEST(Simulation, RetuneReportsParametersThatNeedARestartAndAppliesNothing) {
   Result<RetuneReport> report = sim.Retune(params);
   ASSERT_TRUE(report.ok()) << report.error().Format();
   EXPECT_EQ(report.value().restart,
-            (std::vector<std::string>{"table.width", "physics.particle_friction",
-                                      "sensing.calibration", "camera.width"}));
+            (std::vector<std::string>{"table.width", "physics.layers", "sensing.calibration",
+                                      "camera.width"}));
   EXPECT_EQ(report.value().live, std::vector<std::string>{"tracking.max_distance"});
   EXPECT_EQ(StateOf(sim), before);
-  EXPECT_EQ(sim.params().physics.particleFriction, level.params.physics.particleFriction);
+  EXPECT_EQ(sim.params().physics.layers, level.params.physics.layers);
+  EXPECT_EQ(sim.world().Params().layers, level.params.physics.layers);
   EXPECT_EQ(sim.params().tracking.maxDistance, level.params.tracking.maxDistance);
   EXPECT_EQ(sim.camera().params().width, level.params.camera.width);
 }

@@ -55,8 +55,9 @@ class Simulation {
   /// Adopts new parameters between frames and keeps the run's state: objects, particles, contacts,
   /// the stages' memory and the frame count stay as they are. Every [proxies] and [tracking]
   /// parameter changes live, [sensing] all but calibration and background_frames, [camera] its
-  /// lighting and noise. [table], [physics] (LayeredWorld takes its parameters only at Build)
-  /// and the camera's size, lens, keystone and seed need a rebuild: when any of those changed,
+  /// lighting and noise, [physics] all but frame_rate and the keys that shape the bodies
+  /// (LayeredWorld::FixedKeysChanged). [table] and the camera's size, lens, keystone and seed
+  /// need a rebuild too: when any of those changed,
   /// nothing is applied and report.restart names them (Start applies everything). A value out of
   /// its range is an Error naming it ("physics.substeps must be in [1, 64] (got 0)"), and nothing
   /// changes.
