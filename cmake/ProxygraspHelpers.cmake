@@ -48,12 +48,20 @@ function(proxygrasp_test module name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
   endif()
-  set(extra_properties)
-  if(ARG_ENVIRONMENT)
-    set(extra_properties ENVIRONMENT "${ARG_ENVIRONMENT}")
-  endif()
   gtest_discover_tests(${target} DISCOVERY_MODE PRE_TEST
-                       PROPERTIES LABELS ${module} TIMEOUT ${ARG_TIMEOUT} ${extra_properties})
+                       PROPERTIES LABELS ${module} TIMEOUT ${ARG_TIMEOUT})
+  if(ARG_ENVIRONMENT)
+    # gtest_discover_tests flattens its PROPERTIES, which keeps only the first variable of an
+    # ENVIRONMENT list: set the variables on the discovered tests (${target}_TESTS) instead, from a
+    # file CTest includes after the one that discovers them
+    set(environment_file ${CMAKE_CURRENT_BINARY_DIR}/${target}_environment.cmake)
+    file(WRITE ${environment_file}
+         "if(${target}_TESTS)\n"
+         "  set_tests_properties(\${${target}_TESTS} PROPERTIES ENVIRONMENT\n"
+         "                       [==[${ARG_ENVIRONMENT}]==])\n"
+         "endif()\n")
+    set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${environment_file})
+  endif()
 endfunction()
 
 # proxygrasp_bench(name LIBS ...): builds tests/bench/<name>_bench.cpp with Google Benchmark into
