@@ -92,14 +92,19 @@ void LayeredWorld::Impl::PrepareMassSplitting() {
   }
 }
 
+double LayeredWorld::Impl::TableNormal(int oi) const {
+  return objects[oi].props.mass * params.gravity +
+         params.particleDownForce * static_cast<double>(onTop[oi].size());
+}
+
 void LayeredWorld::Impl::PrepareTableFriction() {
-  std::vector<int> onTop(objects.size(), 0);
-  for (const ParticleData& p : particles) {
-    if (p.restingOn >= 0) ++onTop[p.restingOn];
+  onTop.assign(objects.size(), {});
+  for (int i = 0; i < static_cast<int>(particles.size()); ++i) {
+    if (particles[i].restingOn >= 0) onTop[particles[i].restingOn].push_back(i);
   }
-  for (size_t oi = 0; oi < objects.size(); ++oi) {
+  for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
     ObjectData& o = objects[oi];
-    const double N = o.props.mass * params.gravity + params.particleDownForce * onTop[oi];
+    const double N = TableNormal(oi);
     const double mu = o.sliding ? o.spec.tableKinetic : o.spec.tableStatic;
     const double muTurn = o.spinning ? o.spec.tableKinetic : o.spec.tableStatic;
     // split like the mass: each of the n slices that carry the object's mass in this substep
@@ -230,18 +235,10 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
 }
 
 void LayeredWorld::Impl::Couple() {
-  const double g = params.gravity;
   const double fd = params.particleDownForce;
-
-  // particles resting on each object's top
-  std::vector<std::vector<int>> onTop(objects.size());
-  for (int i = 0; i < static_cast<int>(particles.size()); ++i) {
-    if (particles[i].restingOn >= 0) onTop[particles[i].restingOn].push_back(i);
-  }
-
+  // onTop, the particles resting on each object, is this substep's (PrepareTableFriction)
   for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
     ObjectData& o = objects[oi];
-    const double M = o.props.mass;
     const double w = 1.0 / o.splitCount;  // each slice carries M/n of the mass
 
     // momentum-weighted sum of the slices' velocity changes; position corrections from the
@@ -274,7 +271,7 @@ void LayeredWorld::Impl::Couple() {
     // the object when its friction beats the table's, which a sequential pass gets wrong (top
     // friction would only supply what matches the finger's speed in one substep, and the table's
     // static check would then cancel it every substep).
-    const double N = M * g + fd * static_cast<double>(onTop[oi].size());
+    const double N = TableNormal(oi);
     FrictionSolve solve =
         SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, table, N, false);
     // Coulomb: where a static limit is reached the contact slides, and slides at kinetic friction

@@ -50,6 +50,11 @@ Status ValidateParams(const PhysicsParams& p, const TableParams& t) {
   return std::nullopt;
 }
 
+// an object's friction against particles: its own, or the default when it sets none
+double ParticleFriction(const ObjectSpec& spec, const PhysicsParams& physics) {
+  return spec.particleFriction >= 0 ? spec.particleFriction : physics.particleFriction;
+}
+
 b2Body* CreateWalls(b2World& world, const TableParams& t) {
   b2BodyDef bd;
   b2Body* walls = world.CreateBody(&bd);
@@ -135,8 +140,7 @@ Status LayeredWorld::Build(const PhysicsParams& physics, const TableParams& tabl
 
   // per-object friction tables the layer listeners read
   for (const ObjectSpec& spec : objects) {
-    w.particleFriction.push_back(spec.particleFriction >= 0 ? spec.particleFriction
-                                                            : physics.particleFriction);
+    w.particleFriction.push_back(ParticleFriction(spec, physics));
     w.objectFriction.push_back(spec.objectFriction);
   }
 
@@ -543,14 +547,10 @@ Status LayeredWorld::SetParams(const PhysicsParams& physics) {
   w.dt = 1.0 / (physics.frameRate * physics.substeps);
   if (physics.threads != old.threads) w.pool = std::make_unique<ThreadPool>(physics.threads);
   for (size_t oi = 0; oi < w.objects.size(); ++oi) {
-    const double own = w.objects[oi].spec.particleFriction;
-    w.particleFriction[oi] = own >= 0 ? own : physics.particleFriction;
+    w.particleFriction[oi] = ParticleFriction(w.objects[oi].spec, physics);
   }
   if (physics.particleMass != old.particleMass) {
-    b2MassData md;
-    md.mass = static_cast<float>(physics.particleMass);
-    md.center.SetZero();
-    md.I = 0.0f;
+    const b2MassData md = w.ParticleMassData();
     for (ParticleData& p : w.particles) {
       for (b2Body* b : p.bodies) b->SetMassData(&md);
     }

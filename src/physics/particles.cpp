@@ -64,6 +64,14 @@ int LayeredWorld::Impl::CreationLayer(const Vec2& p, double baseHeight) const {
   return k;
 }
 
+b2MassData LayeredWorld::Impl::ParticleMassData() const {
+  b2MassData md;
+  md.mass = static_cast<float>(params.particleMass);
+  md.center.SetZero();
+  md.I = 0.0f;  // rotation is fixed
+  return md;
+}
+
 void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Vec2& vel) {
   assert(p.bodies.empty() && "stack already has bodies");
   const int K = LayerCount();
@@ -78,10 +86,7 @@ void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Ve
   fd.filter.categoryBits = kParticleBit;
   fd.filter.maskBits = kObjectBit;
   fd.userData.pointer = MakeTag(BodyKind::kParticle, 0);
-  b2MassData md;
-  md.mass = static_cast<float>(params.particleMass);
-  md.center.SetZero();
-  md.I = 0.0f;
+  const b2MassData md = ParticleMassData();
   for (int k = p.baseLayer; k < top; ++k) {
     b2BodyDef bd;
     bd.type = b2_dynamicBody;

@@ -165,6 +165,8 @@ struct LayeredWorld::Impl {
   std::unique_ptr<ThreadPool> pool;
   int64_t frame = 0;
   int planErrors = 0;
+  /// per object, the particles resting on its top in this substep (set by PrepareTableFriction)
+  std::vector<std::vector<int>> onTop;
   std::function<void(int)> observer;
 
   int LayerCount() const { return static_cast<int>(layers.size()); }
@@ -189,8 +191,14 @@ struct LayeredWorld::Impl {
   // coupling.cpp
   /// Gives each object's slices mass M/n, inertia I/n, n = layers predicted to have contacts.
   void PrepareMassSplitting();
-  /// Sets every slice's table friction joint to the object's Coulomb limit for this substep.
+  /// Lists the particles resting on each object's top (onTop) and sets every slice's table
+  /// friction joint to the object's Coulomb limit for this substep.
   void PrepareTableFriction();
+  /// Normal force of object oi on the table: its weight plus the down force of the particles on
+  /// its top, dyn.
+  double TableNormal(int oi) const;
+  /// Mass data of one particle body.
+  b2MassData ParticleMassData() const;
   /// Applies the queued external pushes for one substep.
   void ApplyPushes();
   /// Steps every layer world (concurrently when threads > 1).
