@@ -330,38 +330,32 @@ void App::Impl::ApplyParams(const LevelParams& next) {
     for (const std::string& k : keys) text += (text.empty() ? "" : ", ") + k;
     return text;
   };
+  auto say = [this](std::string status) {
+    tuneStatus = std::move(status);
+    Say(tuneStatus);
+  };
+  // a rejected value keeps the running parameters
+  auto reject = [&](const Error& e) {
+    runError = e.Format();
+    edit = params;
+    say("rejected: " + runError);
+  };
   // the running simulation takes what it can in place and keeps its objects and particles
   Result<RetuneReport> retuned = sim.Retune(next);
-  if (!retuned.ok()) {
-    // a rejected value keeps the running parameters
-    runError = retuned.error().Format();
-    tuneStatus = "rejected: " + runError;
-    edit = params;
-    Say(tuneStatus);
-    return;
-  }
+  if (!retuned.ok()) return reject(retuned.error());
   const RetuneReport& report = retuned.value();
   if (report.restart.empty()) {
     params = next;
     edit = params;
     if (!noInput) runError.clear();
-    if (report.live.empty()) return;
-    tuneStatus = "applied live: " + join(report.live);
-    Say(tuneStatus);
+    if (!report.live.empty()) say("applied live: " + join(report.live));
     return;
   }
   // the rest needs a new run: restart with every change, as before live tuning
-  if (Status s = StartRun(level, next)) {
-    runError = s->Format();
-    tuneStatus = "rejected: " + runError;
-    edit = params;
-    Say(tuneStatus);
-    return;
-  }
+  if (Status s = StartRun(level, next)) return reject(*s);
   params = next;
   edit = params;
-  tuneStatus = "restarted: " + join(report.restart) + " cannot change on a running simulation";
-  Say(tuneStatus);
+  say("restarted: " + join(report.restart) + " cannot change on a running simulation");
 }
 
 Status App::Impl::Load(const std::string& path) {
@@ -812,8 +806,9 @@ void App::Impl::DrawPanel() {
 
   ImGui::Separator();
   ImGui::TextWrapped(
-      "Level parameters: a finished edit applies at once to the running level. Table, physics, "
-      "camera size, lens and seed, and the calibration file restart the run.");
+      "Level parameters: a finished edit applies at once to the running level. The table, the "
+      "frame rate, the layers and particle shapes, the camera's size, lens and seed, and the "
+      "calibration file restart the run.");
   if (!tuneStatus.empty()) ImGui::TextWrapped("%s", tuneStatus.c_str());
   if (ImGui::Button("Copy as TOML")) pending.copyToml = true;
   ImGui::SameLine();

@@ -73,7 +73,7 @@ class App {
   /// running parameters and set runError(). tuneStatus() says which of the three happened.
   void RequestParams(const LevelParams& params);
   /// What the last parameter change did: "applied live: tracking.max_distance", "restarted:
-  /// physics.substeps cannot change on a running simulation" or "rejected: <error>"; "" before
+  /// physics.layers cannot change on a running simulation" or "rejected: <error>"; "" before
   /// any change.
   const std::string& tuneStatus() const;
   /// The parameters that differ from the level file's, as TOML tables (what "Copy as TOML" puts
