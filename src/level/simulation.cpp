@@ -64,7 +64,7 @@ Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
   if (!report.restart.empty()) return report;
 
   // the stages with state built from their parameters take the change in place (their fixed
-  // keys were checked above, so neither rejects it); the others read m_params every frame
+  // keys and ranges were checked above, so none rejects it); the others read m_params every frame
   if (Status s = m_sensor.SetParams(params.sensing)) return *s;
   if (Status s = m_camera->SetParams(params.camera)) return *s;
   if (Status s = m_world.SetParams(params.physics)) return *s;
