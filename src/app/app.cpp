@@ -3,9 +3,9 @@
 #include "proxygrasp/app/hand_input.h"
 #include "proxygrasp/core/params.h"
 #include "proxygrasp/core/units.h"
-#include "proxygrasp/level/runner.h"
-#include "proxygrasp/sensing/frame_source.h"
-#include "proxygrasp/sensing/recorder.h"
+#include "proxygrasp/run/frame_input.h"
+#include "proxygrasp/run/overrides.h"
+#include "proxygrasp/run/trace.h"
 
 #include <SDL.h>
 #include <imgui.h>
@@ -52,12 +52,6 @@ const std::vector<std::string> kHelpLines = {
     "wheel: open / close the pinch; Ctrl+wheel or Alt+drag: turn it",
     "Shift: a flat hand instead",
 };
-
-std::string Fixed(double v, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, v);
-  return buffer;
-}
 
 // a file's modification time and size, to notice edits
 struct FileStamp {
@@ -163,7 +157,7 @@ struct App::Impl {
   // input
   InputKind input = InputKind::kMouse;
   std::string sourceSpec;
-  std::unique_ptr<FrameSource> source;
+  FrameInput frames = FrameInput::Shapes();  // what steps the simulation
   bool noInput = false;
   Clock::time_point lastRetry = Clock::now();
   MouseHands mouse;
@@ -188,10 +182,8 @@ struct App::Impl {
   Result<std::string> screenshot = std::string();
 
   // recording
-  FrameRecorder recorder;
+  TraceWriter recorder;  // input.mkv, objects.csv and frames.csv of out/<level>_recN
   std::string recordDir;
-  std::string objectsCsv;
-  std::string framesCsv;
 
   // frame timing
   Clock::time_point lastTick = Clock::now();
@@ -280,13 +272,7 @@ Status App::Impl::OpenWindow() {
 Result<Level> App::Impl::ReadLevel(const std::string& path) const {
   Result<Level> loaded = LoadLevel(path);
   if (!loaded.ok()) return loaded;
-  for (const std::string& set : options.sets) {
-    const size_t eq = set.find('=');
-    if (eq == std::string::npos)
-      return MakeError({}, "--set " + set + ": expected section.key=value");
-    if (Status s = SetLevelParam(loaded.value(), set.substr(0, eq), set.substr(eq + 1)))
-      return MakeError({}, "--set " + set + ": " + s->Format());
-  }
+  if (Status s = ApplyOverrides(loaded.value(), options.sets)) return *s;
   return loaded;
 }
 
@@ -368,39 +354,40 @@ Status App::Impl::SetupInput() {
   const std::string& spec = options.input;
   if (spec.empty()) {
     // default: a camera when one opens, the mouse otherwise
-    Result<std::unique_ptr<FrameSource>> camera = OpenFrameSource("camera:0");
+    Result<FrameInput> camera = FrameInput::Open("camera:0");
     if (camera.ok()) {
       input = InputKind::kCamera;
       sourceSpec = "camera:0";
-      source = std::move(camera.value());
+      frames = std::move(camera.value());
     } else {
       input = InputKind::kMouse;
+      frames = FrameInput::Shapes();
     }
     return std::nullopt;
   }
   if (spec == "script") {
     input = InputKind::kScript;
-  } else if (spec == "mouse") {
-    input = InputKind::kMouse;
-  } else if (spec == "touch") {
-    input = InputKind::kTouch;
+    frames = FrameInput::Script();
+  } else if (spec == "mouse" || spec == "touch") {
+    input = spec == "mouse" ? InputKind::kMouse : InputKind::kTouch;
+    frames = FrameInput::Shapes();
   } else if (spec.rfind("camera:", 0) == 0) {
     // a camera that does not open now is retried: it may be plugged in later
     input = InputKind::kCamera;
     sourceSpec = spec;
-    Result<std::unique_ptr<FrameSource>> camera = OpenFrameSource(spec);
-    if (camera.ok()) {
-      source = std::move(camera.value());
-    } else {
+    Result<FrameInput> camera = FrameInput::Open(spec, /*keepMissing=*/true);
+    if (!camera.ok()) return MakeError({}, "--input " + spec + ": " + camera.error().Format());
+    frames = std::move(camera.value());
+    if (!frames.HasSource()) {
       noInput = true;
-      runError = camera.error().Format();
+      runError = frames.LastError();
     }
   } else if (spec.rfind("video:", 0) == 0) {
     input = InputKind::kVideo;
     sourceSpec = spec;
-    Result<std::unique_ptr<FrameSource>> video = OpenFrameSource(spec);
+    Result<FrameInput> video = FrameInput::Open(spec);
     if (!video.ok()) return MakeError({}, "--input " + spec + ": " + video.error().Format());
-    source = std::move(video.value());
+    frames = std::move(video.value());
   } else {
     return MakeError({},
                      "--input " + spec + ": expected camera:N, video:FILE, script, mouse or touch");
@@ -620,7 +607,6 @@ void App::Impl::CheckLevelFiles() {
 
 void App::Impl::StepInput() {
   if (!simOk) return;
-  Status status;
   switch (input) {
     case InputKind::kScript:
       // the script loops
@@ -630,68 +616,53 @@ void App::Impl::StepInput() {
           return;
         }
       }
-      status = sim.StepScript();
       break;
     case InputKind::kMouse:
-      status = sim.StepShapes(mouse.Shapes());
+      frames.SetShapes(mouse.Shapes());
       break;
     case InputKind::kTouch:
-      status = sim.StepShapes(touch.Shapes());
+      frames.SetShapes(touch.Shapes());
       break;
     case InputKind::kCamera:
     case InputKind::kVideo: {
       // a lost or missing source shows "no input" and is retried, never fatal
       const Clock::time_point now = Clock::now();
-      if (!source || noInput) {
+      if (noInput) {
         if (std::chrono::duration<double>(now - lastRetry).count() < kRetrySeconds) return;
         lastRetry = now;
-        if (source) {
-          if (Status s = source->Reopen()) {
-            runError = s->Format();
-            return;
-          }
-        } else {
-          Result<std::unique_ptr<FrameSource>> opened = OpenFrameSource(sourceSpec);
-          if (!opened.ok()) {
-            runError = opened.error().Format();
-            return;
-          }
-          source = std::move(opened.value());
+        if (Status s = frames.Reconnect()) {
+          runError = s->Format();
+          return;
         }
         noInput = false;
         runError.clear();
       }
-      cv::Mat frame;
-      const FrameStatus read = source->Read(frame);
-      if (read == FrameStatus::kEnd) {
-        // a video replays from its start, with a fresh run
-        source.reset();
-        noInput = true;
-        lastRetry = now - std::chrono::seconds(10);
-        if (Status s = StartRun(level, params)) runError = s->Format();
-        return;
-      }
-      if (read != FrameStatus::kOk) {
-        noInput = read == FrameStatus::kLost;
-        runError = source->Describe() + ": " + source->LastError();
-        return;
-      }
-      const cv::Size expected(params.camera.width, params.camera.height);
-      if (frame.size() != expected) {
-        runError = source->Describe() + " delivers " + std::to_string(frame.cols) + "x" +
-                   std::to_string(frame.rows) + " frames but the level's [camera] is " +
-                   std::to_string(expected.width) + "x" + std::to_string(expected.height);
-        return;
-      }
-      status = sim.StepImage(frame);
       break;
     }
   }
-  if (status) {
-    runError = status->Format();
+  Result<FrameStatus> stepped = frames.Step(sim);
+  if (!stepped.ok()) {
+    runError = stepped.error().Format();
     return;
   }
-  Record();
+  switch (stepped.value()) {
+    case FrameStatus::kOk:
+      Record();
+      return;
+    case FrameStatus::kEnd:
+      // a video replays from its start, with a fresh run
+      noInput = true;
+      lastRetry = Clock::now() - std::chrono::seconds(10);
+      if (Status s = StartRun(level, params)) runError = s->Format();
+      return;
+    case FrameStatus::kLost:
+      noInput = true;
+      runError = frames.Describe() + ": " + frames.LastError();
+      return;
+    case FrameStatus::kError:
+      runError = frames.LastError();
+      return;
+  }
 }
 
 void App::Impl::StartRecording() {
@@ -704,53 +675,31 @@ void App::Impl::StartRecording() {
   }
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  const cv::Size size(params.camera.width, params.camera.height);
-  if (Status s = recorder.Open(dir + "/input.mkv", size, params.physics.frameRate)) {
+  if (Status s =
+          recorder.Open(dir, dir + "/input.mkv", sim.CameraSize(), params.physics.frameRate)) {
     runError = s->Format();
     return;
   }
   recordDir = dir;
-  objectsCsv = std::string(kObjectsCsvHeader) + "\n";
-  framesCsv = std::string(kFramesCsvHeader) + "\n";
   Say("recording into " + dir);
 }
 
 void App::Impl::StopRecording() {
   if (!recorder.IsOpen()) return;
-  recorder.Close();
-  RunResult trace;
-  trace.objectsCsv = std::move(objectsCsv);
-  trace.framesCsv = std::move(framesCsv);
-  if (Status s = WriteTrace(trace, recordDir)) {
+  const int64_t recorded = recorder.frames();
+  if (Status s = recorder.Close()) {
     runError = s->Format();
   } else {
-    Say("recorded " + std::to_string(recorder.frames()) + " frames into " + recordDir);
+    Say("recorded " + std::to_string(recorded) + " frames into " + recordDir);
   }
 }
 
 void App::Impl::Record() {
   if (!recorder.IsOpen()) return;
-  if (Status s = recorder.Write(sim.cameraImage())) {
+  if (Status s = recorder.Write(sim)) {
     runError = s->Format();
     StopRecording();
-    return;
   }
-  // the same rows as the runner's traces (level/runner.h)
-  const int64_t frame = sim.Frame() - 1;
-  const std::string t = Fixed(sim.Time(), 6);
-  for (int i = 0; i < sim.world().ObjectCount(); ++i) {
-    const ObjectState s = sim.world().Object(i);
-    objectsCsv += std::to_string(frame) + "," + t + "," + s.name + "," + Fixed(s.pose.pos.x(), 6) +
-                  "," + Fixed(s.pose.pos.y(), 6) + "," + Fixed(RadToDeg(s.pose.angle), 6) + "," +
-                  Fixed(s.velocity.x(), 6) + "," + Fixed(s.velocity.y(), 6) + "," +
-                  Fixed(RadToDeg(s.angularVelocity), 6) + "," + (s.held ? "1" : "0") + "\n";
-  }
-  const FrameStats& f = sim.stats();
-  framesCsv += std::to_string(f.frame) + "," + t + "," + std::to_string(f.contacts) + "," +
-               std::to_string(f.particles) + "," + std::to_string(f.created) + "," +
-               std::to_string(f.deleted) + "," + std::to_string(f.bodies) + "," +
-               Fixed(f.senseMs, 4) + "," + Fixed(f.trackMs, 4) + "," + Fixed(f.proxyMs, 4) + "," +
-               Fixed(f.physicsMs, 4) + "," + Fixed(f.totalMs, 4) + "\n";
 }
 
 std::string App::Impl::ChangedToml() const {

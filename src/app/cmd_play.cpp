@@ -4,7 +4,8 @@
 
 #include "proxygrasp/app/app.h"
 #include "proxygrasp/app/video.h"
-#include "proxygrasp/level/runner.h"
+#include "proxygrasp/run/overrides.h"
+#include "proxygrasp/run/runner.h"
 
 #include <SDL.h>
 
@@ -91,15 +92,9 @@ int Play(const PlayArgs& args) {
     std::cerr << level.error().Format() << "\n";
     return kExitBadInput;
   }
-  for (const std::string& set : a.sets) {
-    const size_t eq = set.find('=');
-    Status s = eq == std::string::npos
-                   ? MakeError({}, "expected section.key=value")
-                   : SetLevelParam(level.value(), set.substr(0, eq), set.substr(eq + 1));
-    if (s) {
-      std::cerr << "proxygrasp play: --set " << set << ": " << s->Format() << "\n";
-      return kExitBadInput;
-    }
+  if (Status s = ApplyOverrides(level.value(), a.sets)) {
+    std::cerr << "proxygrasp play: " << s->Format() << "\n";
+    return kExitBadInput;
   }
   if (!HaveDisplay()) return PlayHeadless(a, std::move(level.value()));
 

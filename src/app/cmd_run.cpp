@@ -2,7 +2,8 @@
 #include "commands.h"
 
 #include "proxygrasp/app/video.h"
-#include "proxygrasp/level/runner.h"
+#include "proxygrasp/run/overrides.h"
+#include "proxygrasp/run/runner.h"
 
 #include <iostream>
 
@@ -49,16 +50,9 @@ int RunLevels(const RunArgs& args) {
       std::cerr << level.error().Format() << "\n";
       return kExitBadInput;
     }
-    for (const std::string& set : args.sets) {
-      const size_t eq = set.find('=');
-      if (eq == std::string::npos) {
-        std::cerr << "proxygrasp run: --set " << set << ": expected section.key=value\n";
-        return kExitBadInput;
-      }
-      if (Status s = SetLevelParam(level.value(), set.substr(0, eq), set.substr(eq + 1))) {
-        std::cerr << "proxygrasp run: --set " << set << ": " << s->Format() << "\n";
-        return kExitBadInput;
-      }
+    if (Status s = ApplyOverrides(level.value(), args.sets)) {
+      std::cerr << "proxygrasp run: " << s->Format() << "\n";
+      return kExitBadInput;
     }
     levels.push_back(std::move(level.value()));
   }

@@ -1,13 +1,12 @@
-// `proxygrasp sense INPUT`: what the table sees. Reads frames from a camera, a video, a folder of
-// images or a synthetic scene, runs sensing and tracking, and prints one JSON object per frame with
-// the tracked contacts in table cm.
+// `proxygrasp sense INPUT`: what the table sees. Steps a simulation of sensing and tracking alone
+// (run/simulation.h) with frames from a camera, a video, a folder of images, a synthetic scene or
+// a level's script, and prints one JSON object per frame with the tracked contacts in table cm.
 #include "commands.h"
 
 #include "proxygrasp/level/level.h"
-#include "proxygrasp/level/params.h"
-#include "proxygrasp/sensing/frame_source.h"
-#include "proxygrasp/sensing/sensor.h"
-#include "proxygrasp/tracking/tracker.h"
+#include "proxygrasp/run/frame_input.h"
+#include "proxygrasp/run/overrides.h"
+#include "proxygrasp/run/simulation.h"
 
 #include <chrono>
 #include <cmath>
@@ -27,24 +26,31 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// The input of `sense`: a level file (*.toml) is its script rendered through the synthetic camera
-// for the script's duration, with the level's parameters (params receives them); every other spec
-// goes to OpenFrameSource.
-Result<std::unique_ptr<FrameSource>> OpenSenseInput(const std::string& spec, LevelParams& params) {
-  if (!EndsWith(spec, ".toml")) return OpenFrameSource(spec);
-  Result<Level> loaded = LoadLevel(spec);
-  if (!loaded.ok()) return loaded.error();
-  auto level = std::make_shared<const Level>(std::move(loaded.value()));
-  params = level->params;
-  const double fps = params.physics.frameRate;
-  const auto frames = static_cast<int64_t>(std::ceil(level->script.duration * fps - 1e-9));
-  ShapeScript script = [level, fps](int64_t frame, std::vector<ContactShape>& shapes) {
-    shapes = ShapesAt(level->script, static_cast<double>(frame) / fps);
-    return true;
-  };
-  std::unique_ptr<FrameSource> source = std::make_unique<SyntheticSource>(
-      spec, params.camera, params.table, std::move(script), frames, fps);
-  return source;
+// The input of `sense` and the level it runs: a level file (*.toml) is its script drawn by the
+// synthetic camera for the script's duration, with the level's parameters; every other spec is a
+// frame source (OpenFrameSource) on an empty table with the default parameters.
+struct SenseInput {
+  Level level;
+  FrameInput frames = FrameInput::Script();
+  int64_t frameCount = 0;  // frames the input lasts; 0 until it ends
+};
+
+Result<SenseInput> OpenSenseInput(const std::string& spec) {
+  SenseInput input;
+  if (EndsWith(spec, ".toml")) {
+    Result<Level> loaded = LoadLevel(spec);
+    if (!loaded.ok()) return loaded.error();
+    input.level = std::move(loaded.value());
+    input.frameCount = static_cast<int64_t>(
+        std::ceil(input.level.script.duration * input.level.params.physics.frameRate - 1e-9));
+    return input;
+  }
+  Result<FrameInput> frames = FrameInput::Open(spec);
+  if (!frames.ok()) return frames.error();
+  input.level.path = spec;
+  input.level.name = spec;
+  input.frames = std::move(frames.value());
+  return input;
 }
 
 void AppendNumber(std::string& out, double v) {
@@ -91,78 +97,89 @@ struct SenseOptions {
 int RunSense(const SenseOptions& o) {
   const char* const me = "proxygrasp sense: ";
   // parameters: defaults or the level's, then --set, then --calibration
-  LevelParams params;
-  Result<std::unique_ptr<FrameSource>> opened = OpenSenseInput(o.input, params);
+  Result<SenseInput> opened = OpenSenseInput(o.input);
   if (!opened) {
     std::cerr << me << opened.error().Format() << "\n";
     return kExitBadInput;
   }
-  for (const std::string& s : o.sets) {
-    if (Status st = SetParam(params, s.substr(0, s.find('=')),
-                             s.find('=') == std::string::npos ? "" : s.substr(s.find('=') + 1))) {
-      std::cerr << me << "--set " << s << ": " << st->Format() << "\n";
-      return kExitBadInput;
-    }
+  SenseInput& in = opened.value();
+  LevelParams params = in.level.params;
+  if (Status s = ApplyOverrides(params, o.sets)) {
+    std::cerr << me << s->Format() << "\n";
+    return kExitBadInput;
   }
   if (!o.calibration.empty()) params.sensing.calibration = o.calibration;
-  FrameSource& source = *opened.value();
-  const double fps = source.FrameRate() > 0.0 ? source.FrameRate() : 60.0;
 
-  Sensor sensor;
-  Tracker tracker;
-  cv::Mat frame;
+  // sensing and tracking only; a source's first frame fixes the image size the sensor takes, and
+  // real frames get no synthetic background
+  const bool script = in.frames.kind() == FrameInput::Kind::kScript;
+  SimulationOptions setup;
+  setup.stages = RunStages::kThroughTracking;
+  setup.cameraBackground = script;
+  Simulation sim;
+  bool started = false;
+  auto start = [&](cv::Size size) -> Status {
+    params.camera.width = size.width;
+    params.camera.height = size.height;
+    started = true;
+    return sim.Start(in.level, params, setup);
+  };
+
+  const int64_t limit = o.frames > 0 ? o.frames : in.frameCount;
   int64_t index = 0;
   int badFrames = 0;
   int failuresInARow = 0;
   constexpr int kMaxFailuresInARow = 10;
   constexpr int kReopenAttempts = 5;
-  while (o.frames <= 0 || index < o.frames) {
-    const FrameStatus status = source.Read(frame);
-    if (status == FrameStatus::kEnd) break;
-    if (status == FrameStatus::kLost) {
+  while (limit <= 0 || index < limit) {
+    // the run starts with the first frame: its size is the camera size the sensor takes
+    Result<FrameStatus> stepped = script ? FrameStatus::kOk : in.frames.Peek();
+    if (!started && stepped.ok() && stepped.value() == FrameStatus::kOk) {
+      const cv::Size size =
+          script ? cv::Size(params.camera.width, params.camera.height) : in.frames.PeekedSize();
+      if (Status s = start(size)) {
+        std::cerr << me << s->Format() << "\n";
+        return kExitBadInput;
+      }
+    }
+    if (stepped.ok() && stepped.value() == FrameStatus::kOk) stepped = in.frames.Step(sim);
+    if (!stepped.ok()) {
+      // the pipeline rejected the frame
+      std::cerr << me << in.frames.Describe() << ": " << stepped.error().Format() << "\n";
+      ++badFrames;
+      ++index;
+      if (++failuresInARow >= kMaxFailuresInARow) return kExitFailed;
+      continue;
+    }
+    if (stepped.value() == FrameStatus::kEnd) break;
+    if (stepped.value() == FrameStatus::kLost) {
       // a camera that disappears: say so, and try to get it back for a few seconds
-      std::cerr << me << source.LastError() << "; no input, retrying\n";
+      std::cerr << me << in.frames.LastError() << "; no input, retrying\n";
       bool back = false;
       for (int attempt = 0; attempt < kReopenAttempts && !back; ++attempt) {
         std::this_thread::sleep_for(std::chrono::seconds(1));
-        back = !source.Reopen();
+        back = !in.frames.Reconnect();
       }
       if (!back) {
-        std::cerr << me << source.Describe() << ": gave up after " << kReopenAttempts
+        std::cerr << me << in.frames.Describe() << ": gave up after " << kReopenAttempts
                   << " attempts\n";
         return kExitFailed;
       }
       continue;
     }
-    if (status == FrameStatus::kError) {
-      std::cerr << me << source.LastError() << "\n";
+    if (stepped.value() == FrameStatus::kError) {
+      std::cerr << me << in.frames.LastError() << "\n";
       ++badFrames;
+      ++index;
       if (++failuresInARow >= kMaxFailuresInARow) {
-        std::cerr << me << source.Describe() << ": " << kMaxFailuresInARow
+        std::cerr << me << in.frames.Describe() << ": " << kMaxFailuresInARow
                   << " bad frames in a row, stopping\n";
         return kExitFailed;
       }
-      ++index;
-      continue;
-    }
-    // the first frame fixes the image size the calibration must match
-    if (!sensor.configured()) {
-      if (Status s = sensor.Configure(params.sensing, params.table, frame.size())) {
-        std::cerr << me << s->Format() << "\n";
-        return kExitBadInput;
-      }
-    }
-    Result<ContourFrame> sensed = sensor.Process(frame, index, index / fps);
-    if (!sensed) {
-      std::cerr << me << source.Describe() << ": " << sensed.error().Format() << "\n";
-      ++badFrames;
-      if (++failuresInARow >= kMaxFailuresInARow) return kExitFailed;
-      ++index;
       continue;
     }
     failuresInARow = 0;
-    const ContactSet contacts = tracker.Update(params.tracking, sensed.value());
-    std::cout << FrameJson(index, contacts) << "\n";
+    std::cout << FrameJson(index, sim.contacts()) << "\n";
     ++index;
   }
   std::cout.flush();

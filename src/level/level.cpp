@@ -1124,110 +1124,12 @@ class Loader {
 
 }  // namespace
 
-std::string ExpectationText(const Expectation& e) {
-  auto region = [](const Region& r) {
-    if (r.kind == Region::Kind::kCircle) {
-      return "within " + FormatDouble(r.radius) + " cm of " + VecText(r.center);
-    }
-    return "inside " + VecText(r.min) + ".." + VecText(r.max) + " cm";
-  };
-  // degrees come back from radians with a rounding error; a millionth is finer than any level
-  auto bounds = [](double low, double high, double scale, const char* unit) {
-    auto text = [scale](double v) { return FormatDouble(std::round(v * scale * 1e6) / 1e6); };
-    std::string s;
-    if (std::isfinite(low)) s += ">= " + text(low) + unit;
-    if (std::isfinite(high)) s += std::string(s.empty() ? "" : " and ") + "<= " + text(high) + unit;
-    return s;
-  };
-  std::string text;
-  switch (e.kind) {
-    case ExpectKind::kPosition:
-      text = e.object + " " + region(e.region);
-      break;
-    case ExpectKind::kRotation:
-      text = e.object + " turned " + bounds(e.minAngle, e.maxAngle, RadToDeg(1.0), " deg");
-      break;
-    case ExpectKind::kDisplacement:
-      text = e.object + " moved " + bounds(e.above, e.below, 1.0, " cm");
-      break;
-    case ExpectKind::kHeld:
-      text = e.object + (e.held ? " held" : " not held");
-      break;
-    case ExpectKind::kResting:
-      text = FormatDouble(e.fraction * 100) + "% of " + e.contact + " resting on " +
-             (e.OnTable() ? std::string("the table") : e.on);
-      break;
-  }
-  text += e.at ? " at " + FormatDouble(*e.at) + " s" : " at the end";
-  std::string qualifiers;
-  if (!e.variant.empty()) qualifiers += e.variant;
-  if (e.mode) {
-    qualifiers +=
-        (qualifiers.empty() ? "" : ", ") + std::string(kProxyModeNames[static_cast<int>(*e.mode)]);
-  }
-  if (!qualifiers.empty()) text += " (" + qualifiers + ")";
-  return text;
-}
-
-Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text) {
-  // check on a copy first so an error leaves every parameter set as it was
-  LevelParams probe = level.params;
-  if (Status s = SetParam(probe, dottedKey, text)) return s;
-  level.params = probe;
-  for (Variant& v : level.variants) {
-    const Status s = SetParam(v.params, dottedKey, text);
-    assert(!s && "a key valid for the level is valid for its variants");
-    (void)s;
-  }
-  return std::nullopt;
-}
-
 Result<Level> LoadLevel(const std::string& path) {
   return Loader().Load(path, std::nullopt);
 }
 
 Result<Level> ParseLevel(std::string_view text, const std::string& path) {
   return Loader().Load(path, text);
-}
-
-namespace {
-
-// the mode a run of the variant (or the base level, "") takes by default
-ProxyMode OwnMode(const Level& level, const std::string& variant) {
-  const Variant* v = level.FindVariant(variant);
-  return v ? v->params.proxies.mode : level.params.proxies.mode;
-}
-
-}  // namespace
-
-std::vector<LevelRun> LevelRuns(const Level& level, std::optional<ProxyMode> forcedMode) {
-  std::vector<LevelRun> runs;
-  auto add = [&runs, forcedMode](const std::string& variant, ProxyMode mode) {
-    for (const LevelRun& r : runs) {
-      if (r.variant == variant && r.mode == mode) return;
-    }
-    runs.push_back({variant, mode, forcedMode.has_value()});
-  };
-  add("", forcedMode.value_or(level.params.proxies.mode));
-  for (const Expectation& e : level.expectations) {
-    if (forcedMode && e.mode && *e.mode != *forcedMode) continue;
-    add(e.variant, forcedMode.value_or(e.mode.value_or(OwnMode(level, e.variant))));
-  }
-  return runs;
-}
-
-LevelParams RunParams(const Level& level, const LevelRun& run) {
-  const Variant* v = level.FindVariant(run.variant);
-  assert((run.variant.empty() || v) && "a run names a variant the level defines");
-  LevelParams params = v ? v->params : level.params;
-  params.proxies.mode = run.mode;
-  return params;
-}
-
-bool AppliesTo(const Expectation& e, const LevelRun& run, const Level& level) {
-  if (e.variant != run.variant) return false;
-  if (e.mode) return *e.mode == run.mode;
-  return run.forcedMode || run.mode == OwnMode(level, e.variant);
 }
 
 }  // namespace pg

@@ -33,7 +33,7 @@ TEST(RunLevelToVideo, WritesEveryFrameOfTheFirstRunAndAPng) {
   Result<LevelResult> result = RunLevelToVideo(level.value(), options, video);
   ASSERT_TRUE(result.ok()) << result.error().Format();
   ASSERT_EQ(result.value().runs.size(), 1u);
-  EXPECT_EQ(result.value().runs[0].frames.size(), 24u);
+  EXPECT_EQ(result.value().runs[0].frames, 24);
 
   cv::VideoCapture capture(video.videoPath);
   ASSERT_TRUE(capture.isOpened());

@@ -637,7 +637,6 @@ TEST(Level, TheDocsExampleLoads) {
   EXPECT_EQ(level.goals.size(), 2u);
   EXPECT_EQ(level.variants.size(), 1u);
   EXPECT_EQ(level.files.size(), 2u) << "it includes levels/shared/base.toml";
-  EXPECT_EQ(LevelRuns(level).size(), 3u);
 }
 
 TEST(Level, SharedBaseOfThePapersLevelsLoads) {
@@ -645,83 +644,6 @@ TEST(Level, SharedBaseOfThePapersLevelsLoads) {
       LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) + "/levels/shared/base.toml");
   ASSERT_TRUE(r.ok()) << r.error().Format();
   EXPECT_TRUE(r.value().objects.empty());
-}
-
-// ---- runs: variants and modes ----
-
-TEST(LevelRuns, OneRunPerVariantAndModeTheExpectationsName) {
-  const Result<Level> r = LoadLevel(kData + "/complete.toml");
-  ASSERT_TRUE(r.ok()) << r.error().Format();
-  const Level& level = r.value();
-  const std::vector<LevelRun> runs = LevelRuns(level);
-  ASSERT_EQ(runs.size(), 3u);
-  EXPECT_EQ(runs[0].variant, "");
-  EXPECT_EQ(runs[0].mode, ProxyMode::kPersistent);
-  EXPECT_EQ(runs[1].variant, "");
-  EXPECT_EQ(runs[1].mode, ProxyMode::kInstant);
-  EXPECT_EQ(runs[2].variant, "single");
-  EXPECT_EQ(runs[2].mode, ProxyMode::kPersistent);
-
-  // each expectation belongs to exactly the runs it names
-  const Expectation& turn = level.expectations[0];
-  const Expectation& instantHeld = level.expectations[3];
-  const Expectation& singleResting = level.expectations[4];
-  EXPECT_TRUE(AppliesTo(turn, runs[0], level));
-  EXPECT_FALSE(AppliesTo(turn, runs[1], level));
-  EXPECT_FALSE(AppliesTo(turn, runs[2], level));
-  EXPECT_FALSE(AppliesTo(instantHeld, runs[0], level));
-  EXPECT_TRUE(AppliesTo(instantHeld, runs[1], level));
-  EXPECT_TRUE(AppliesTo(singleResting, runs[2], level));
-  EXPECT_FALSE(AppliesTo(singleResting, runs[0], level));
-
-  EXPECT_EQ(RunParams(level, runs[1]).proxies.mode, ProxyMode::kInstant);
-  EXPECT_EQ(RunParams(level, runs[1]).physics.stackSize, 3);
-  EXPECT_EQ(RunParams(level, runs[2]).physics.stackSize, 1);
-}
-
-TEST(LevelRuns, ForcedModeRunsOnlyThatMode) {
-  const Result<Level> r = LoadLevel(kData + "/complete.toml");
-  ASSERT_TRUE(r.ok()) << r.error().Format();
-  const Level& level = r.value();
-  const std::vector<LevelRun> runs = LevelRuns(level, ProxyMode::kInstant);
-  ASSERT_EQ(runs.size(), 2u);
-  EXPECT_EQ(runs[0].variant, "");
-  EXPECT_EQ(runs[0].mode, ProxyMode::kInstant);
-  EXPECT_EQ(runs[1].variant, "single");
-  EXPECT_EQ(runs[1].mode, ProxyMode::kInstant);
-  // under --mode, expectations without a mode are checked in the forced mode
-  EXPECT_TRUE(AppliesTo(level.expectations[0], runs[0], level));
-  EXPECT_TRUE(AppliesTo(level.expectations[3], runs[0], level));
-  const std::vector<LevelRun> persistent = LevelRuns(level, ProxyMode::kPersistent);
-  ASSERT_EQ(persistent.size(), 2u);
-  EXPECT_FALSE(AppliesTo(level.expectations[3], persistent[0], level));
-}
-
-TEST(LevelRuns, SetOverridesTheLevelAndEveryVariant) {
-  Result<Level> r = LoadLevel(kData + "/complete.toml");
-  ASSERT_TRUE(r.ok()) << r.error().Format();
-  Level& level = r.value();
-  EXPECT_FALSE(SetLevelParam(level, "physics.stack_size", "5"));
-  EXPECT_EQ(level.params.physics.stackSize, 5);
-  EXPECT_EQ(level.variants[0].params.physics.stackSize, 5) << "the command line wins";
-  EXPECT_FALSE(SetLevelParam(level, "physics.substeps", "2"));
-  EXPECT_EQ(level.variants[0].params.physics.substeps, 2);
-  const Status bad = SetLevelParam(level, "physics.stack_size", "99");
-  ASSERT_TRUE(bad);
-  EXPECT_EQ(bad->message, "physics.stack_size: value 99 is out of range [1, 16]");
-  EXPECT_EQ(level.params.physics.stackSize, 5);
-  EXPECT_EQ(level.variants[0].params.physics.stackSize, 5);
-}
-
-TEST(LevelText, ExpectationsDescribeThemselves) {
-  const Result<Level> r = LoadLevel(kData + "/complete.toml");
-  ASSERT_TRUE(r.ok()) << r.error().Format();
-  const auto& e = r.value().expectations;
-  EXPECT_EQ(ExpectationText(e[0]), "box turned >= 30 deg and <= 60 deg at the end");
-  EXPECT_EQ(ExpectationText(e[1]), "box within 1.5 cm of [30, 23] at 2 s");
-  EXPECT_EQ(ExpectationText(e[2]), "puck moved >= 0.5 cm at the end");
-  EXPECT_EQ(ExpectationText(e[3]), "box not held at 1.5 s (instant)");
-  EXPECT_EQ(ExpectationText(e[4]), "80% of thumb resting on the table at 2 s (single)");
 }
 
 TEST(Goal, MetInTheZoneAndWithinTheAngleModuloATurn) {

@@ -6,7 +6,7 @@
 
 #include "proxygrasp/app/table_view.h"
 #include "proxygrasp/core/error.h"
-#include "proxygrasp/level/simulation.h"
+#include "proxygrasp/run/simulation.h"
 
 #include <opencv2/core.hpp>
 

@@ -8,7 +8,7 @@
 #include "proxygrasp/core/geometry.h"
 #include "proxygrasp/core/ids.h"
 #include "proxygrasp/level/level.h"
-#include "proxygrasp/level/simulation.h"
+#include "proxygrasp/run/simulation.h"
 
 #include <opencv2/core.hpp>
 

@@ -4,7 +4,7 @@
 
 #include "proxygrasp/app/table_view.h"
 #include "proxygrasp/core/error.h"
-#include "proxygrasp/level/runner.h"
+#include "proxygrasp/run/runner.h"
 
 #include <opencv2/core.hpp>
 

@@ -111,38 +111,11 @@ struct Level {
   const Variant* FindVariant(std::string_view variantName) const;
 };
 
-/// A one-line description of what e checks, for reports: "box held at 2 s (instant)".
-std::string ExpectationText(const Expectation& e);
-
-/// Sets "section.key" from text in the level's parameters and in every variant's, as the runner's
-/// `--set` does: the command line wins over the file, variants included. Nothing changes on error.
-Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text);
-
 /// Reads, validates and builds the level in the file at path.
 Result<Level> LoadLevel(const std::string& path);
 
 /// The same from text; path names the text in messages and anchors relative includes.
 Result<Level> ParseLevel(std::string_view text, const std::string& path);
-
-/// One run of a level: its base parameters or a variant's, in one proxy mode.
-struct LevelRun {
-  std::string variant;  ///< "" the base level
-  ProxyMode mode = ProxyMode::kPersistent;
-  bool forcedMode = false;  ///< the mode was forced (the runner's --mode) for every run
-};
-
-/// The runs a level's expectations need: the base level in its own mode first, then every other
-/// (variant, mode) pair some expectation names, in order of first mention. With forcedMode (the
-/// runner's --mode) every run uses that mode and expectations naming another mode are left out.
-std::vector<LevelRun> LevelRuns(const Level& level,
-                                std::optional<ProxyMode> forcedMode = std::nullopt);
-
-/// The parameters of a run: the variant's (or the level's) with proxies.mode set to run.mode.
-LevelParams RunParams(const Level& level, const LevelRun& run);
-
-/// True when expectation e is checked in run: same variant, and the run's mode is the one e names;
-/// an expectation naming no mode is checked in its variant's own mode, or in a forced mode.
-bool AppliesTo(const Expectation& e, const LevelRun& run, const Level& level);
 
 /// Describes every ObjectSpec key of an [[objects]] entry (angles in degrees).
 void DescribeObject(ObjectSpec& o, ParamVisitor& v);

@@ -1,4 +1,4 @@
-#include "proxygrasp/level/simulation.h"
+#include "proxygrasp/run/simulation.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

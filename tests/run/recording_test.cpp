@@ -1,6 +1,7 @@
 // Recording and replay: a run's camera frames recorded with its trace, then fed back to the runner
 // as a level's input ([script] recording), give the same object trajectory.
-#include "proxygrasp/level/runner.h"
+#include "proxygrasp/run/runner.h"
+#include "proxygrasp/run/trace.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -93,7 +94,7 @@ TEST(Recording, ReplayedRunMatchesTheRecordedTrace) {
   ASSERT_EQ(recorded.value().runs.size(), 1u);
   EXPECT_EQ(RecordingTraceDir(record.record), dir + "/push_trace");
   const std::string trace = Read(dir + "/push_trace/objects.csv");
-  EXPECT_EQ(trace, recorded.value().runs[0].objectsCsv);
+  EXPECT_EQ(recorded.value().runs[0].traceDir, "");  // no --trace: only the recording's own
   EXPECT_TRUE(fs::exists(dir + "/push_trace/frames.csv"));
   // the finger really pushed the box, so matching trajectories mean something
   EXPECT_GT(LastX(trace), 31.0);
@@ -106,14 +107,16 @@ TEST(Recording, ReplayedRunMatchesTheRecordedTrace) {
   ASSERT_TRUE(replay.ok()) << replay.error().Format();
   EXPECT_EQ(replay.value().script.recordingFrames, 48);
   EXPECT_DOUBLE_EQ(replay.value().script.duration, 0.8);
-  Result<LevelResult> replayed = RunLevel(replay.value(), RunOptions{});
+  RunOptions replayTrace;
+  replayTrace.traceDir = dir + "/replay_trace";
+  Result<LevelResult> replayed = RunLevel(replay.value(), replayTrace);
   ASSERT_TRUE(replayed.ok()) << replayed.error().Format();
   ASSERT_EQ(replayed.value().runs.size(), 1u);
-  EXPECT_EQ(replayed.value().runs[0].frames.size(), 48u);
+  EXPECT_EQ(replayed.value().runs[0].frames, 48);
   // exact: FFV1 is lossless, so the sensor gets the same bytes, with the same background (the
   // synthetic camera of the same [camera] table), and every later stage is deterministic; any
   // difference at all would mean the replay is not the recorded input
-  EXPECT_EQ(replayed.value().runs[0].objectsCsv, trace);
+  EXPECT_EQ(Read(dir + "/replay_trace/objects.csv"), trace);
   // expectations still apply
   ASSERT_EQ(replayed.value().runs[0].results.size(), 1u);
   EXPECT_TRUE(replayed.value().Passed()) << FormatReport(replay.value(), replayed.value());
@@ -123,7 +126,7 @@ TEST(Recording, ReplayedRunMatchesTheRecordedTrace) {
   longer.frames = 100;
   replayed = RunLevel(replay.value(), longer);
   ASSERT_TRUE(replayed.ok());
-  EXPECT_EQ(replayed.value().runs[0].frames.size(), 48u);
+  EXPECT_EQ(replayed.value().runs[0].frames, 48);
 }
 
 TEST(Recording, LoaderRejectsMissingUnreadableAndMixedInputs) {

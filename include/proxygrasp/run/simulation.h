@@ -1,10 +1,12 @@
 // The whole frame pipeline for one run of a level: synthetic camera (or a real frame), sensing,
-// tracking, proxies and the layered physics. The headless runner, the `sense` command and the app
-// all drive it, so every input path runs the same stages in the same order.
+// tracking, proxies and the layered physics. The headless runner (run/runner.h), `sense` and the
+// app all step it through one FrameInput (run/frame_input.h) and write its traces with one
+// TraceWriter (run/trace.h), so every input path runs the same stages in the same order.
 #pragma once
 
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/level/level.h"
+#include "proxygrasp/level/params.h"
 #include "proxygrasp/physics/layered_world.h"
 #include "proxygrasp/proxies/proxy_stage.h"
 #include "proxygrasp/sensing/sensor.h"
@@ -45,12 +47,26 @@ struct RetuneReport {
                                      ///< nothing was applied, not even the live ones
 };
 
+/// Which stages a simulation runs: all of them, or sensing and tracking alone (`sense` prints the
+/// tracked contacts and needs no particles or physics).
+enum class RunStages { kAll, kThroughTracking };
+
+/// How a simulation is set up beyond its level and parameters.
+struct SimulationOptions {
+  RunStages stages = RunStages::kAll;
+  /// When the sensing parameters capture no background (background_frames = 0) and the
+  /// calibration brings none, the synthetic camera's clear table is the sensor's background.
+  /// Off for frames from a real camera or footage, which that background does not fit.
+  bool cameraBackground = true;
+};
+
 /// One run of a level through the pipeline.
 class Simulation {
  public:
   /// Builds the camera, sensor, tracker, proxies and world from the level's objects and the run's
   /// parameters. On error nothing is kept and the Error names the level file where it can.
-  Status Start(const Level& level, const LevelParams& params);
+  Status Start(const Level& level, const LevelParams& params,
+               const SimulationOptions& options = {});
 
   /// Adopts new parameters between frames and keeps the run's state: objects, particles, contacts,
   /// the stages' memory and the frame count stay as they are. Every [proxies] and [tracking]
@@ -69,6 +85,11 @@ class Simulation {
   Status StepShapes(std::span<const ContactShape> shapes);
   /// One frame from a camera image (CV_8UC1 of the sensed size); errors name the frame.
   Status StepImage(const cv::Mat& frame);
+  /// One frame whose contours (table cm) were sensed elsewhere: tracking onwards.
+  Status StepContours(const ContourFrame& contours);
+
+  /// The size of the camera images the sensor takes, pixels ([camera] width and height).
+  cv::Size CameraSize() const { return {m_params.camera.width, m_params.camera.height}; }
 
   /// Frames stepped so far; the next frame's number.
   int64_t Frame() const { return m_frame; }
@@ -100,6 +121,8 @@ class Simulation {
 
  private:
   Status Process(const cv::Mat& frame);
+  // tracking onwards, once m_contours holds the frame's contours
+  void ProcessContours(FrameStats& stats, double senseMs);
   void AttributeContacts();
 
   Level m_level;
@@ -109,6 +132,7 @@ class Simulation {
   Tracker m_tracker;
   ProxyStage m_proxies;
   LayeredWorld m_world;
+  SimulationOptions m_options;
 
   int64_t m_frame = 0;
   cv::Mat m_image;

@@ -1,7 +1,6 @@
-#include "proxygrasp/level/simulation.h"
+#include "proxygrasp/run/simulation.h"
 
 #include "proxygrasp/core/timer.h"
-#include "proxygrasp/level/params.h"
 #include "proxygrasp/level/script.h"
 
 #include <algorithm>
@@ -9,11 +8,13 @@
 
 namespace pg {
 
-Status Simulation::Start(const Level& level, const LevelParams& params) {
+Status Simulation::Start(const Level& level, const LevelParams& params,
+                         const SimulationOptions& options) {
   // build into fresh stages so a failed start keeps nothing half-made
   Simulation next;
   next.m_level = level;
   next.m_params = params;
+  next.m_options = options;
   next.m_camera = std::make_unique<SyntheticCamera>(params.camera, params.table);
   const cv::Size size(params.camera.width, params.camera.height);
   if (Status s = next.m_sensor.Configure(params.sensing, params.table, size)) {
@@ -22,7 +23,8 @@ Status Simulation::Start(const Level& level, const LevelParams& params) {
   }
   // the synthetic camera knows its clear table exactly: it serves as the captured background,
   // unless the sensing parameters ask to capture one from the first frames
-  if (params.sensing.backgroundFrames == 0 && !next.m_sensor.HasBackground()) {
+  if (options.cameraBackground && params.sensing.backgroundFrames == 0 &&
+      !next.m_sensor.HasBackground()) {
     if (Status s = next.m_sensor.SetBackground(next.m_camera->Background())) return s;
     next.m_backgroundFromCamera = true;
   }
@@ -105,39 +107,59 @@ Status Simulation::StepImage(const cv::Mat& frame) {
   return Process(m_image);
 }
 
+Status Simulation::StepContours(const ContourFrame& contours) {
+  m_shapes.clear();
+  m_shapeScript.clear();
+  m_image.release();
+  m_contours = contours;
+  FrameStats stats;
+  stats.frame = m_frame;
+  stats.time = Time();
+  ProcessContours(stats, 0.0);
+  return std::nullopt;
+}
+
 Status Simulation::Process(const cv::Mat& frame) {
   FrameStats stats;
   stats.frame = m_frame;
   stats.time = Time();
   const bool instant = m_params.proxies.mode == ProxyMode::kInstant;
-  Stopwatch total;
 
   // sensing: frame -> contours in table cm
   Stopwatch watch;
   Result<ContourFrame> sensed = m_sensor.Process(frame, m_frame, stats.time, instant);
   if (!sensed.ok()) return sensed.error();
   m_contours = std::move(sensed.value());
-  stats.senseMs = watch.Ms();
+  ProcessContours(stats, watch.Ms());
+  return std::nullopt;
+}
+
+void Simulation::ProcessContours(FrameStats& stats, double senseMs) {
+  const bool instant = m_params.proxies.mode == ProxyMode::kInstant;
+  stats.senseMs = senseMs;
+  Stopwatch total;
 
   // tracking: stable contact ids
-  watch.Restart();
+  Stopwatch watch;
   m_contacts = m_tracker.Update(m_params.tracking, m_contours);
   stats.trackMs = watch.Ms();
   AttributeContacts();
 
-  // proxies: the particle plan, asking the world as it was after the last frame
-  watch.Restart();
-  const std::vector<ParticleFeedback> feedback = m_world.Feedback();
-  m_plan = m_proxies.Update(m_params.proxies, m_contacts, m_world, feedback,
-                            instant ? &m_contours.tableImage : nullptr);
-  stats.proxyMs = watch.Ms();
+  if (m_options.stages == RunStages::kAll) {
+    // proxies: the particle plan, asking the world as it was after the last frame
+    watch.Restart();
+    const std::vector<ParticleFeedback> feedback = m_world.Feedback();
+    m_plan = m_proxies.Update(m_params.proxies, m_contacts, m_world, feedback,
+                              instant ? &m_contours.tableImage : nullptr);
+    stats.proxyMs = watch.Ms();
 
-  // physics: apply the plan and advance one frame
-  watch.Restart();
-  m_world.ApplyPlan(m_plan);
-  m_world.StepFrame();
-  stats.physicsMs = watch.Ms();
-  stats.totalMs = total.Ms();
+    // physics: apply the plan and advance one frame
+    watch.Restart();
+    m_world.ApplyPlan(m_plan);
+    m_world.StepFrame();
+    stats.physicsMs = watch.Ms();
+  }
+  stats.totalMs = senseMs + total.Ms();
 
   for (const Contact& c : m_contacts.contacts) {
     if (c.state != ContactState::kLifted) ++stats.contacts;
@@ -148,7 +170,6 @@ Status Simulation::Process(const cv::Mat& frame) {
   stats.bodies = m_world.BodyCount();
   m_stats = stats;
   ++m_frame;
-  return std::nullopt;
 }
 
 void Simulation::AttributeContacts() {

@@ -1,0 +1,34 @@
+// `--set section.key=value`: the one parser of parameter overrides, shared by `run`, `play`,
+// `sense` and the app. The command line wins over the level file, variants included.
+#pragma once
+
+#include "proxygrasp/core/error.h"
+#include "proxygrasp/level/level.h"
+#include "proxygrasp/level/params.h"
+
+#include <string>
+#include <vector>
+
+namespace pg {
+
+/// One `--set` argument split at its first '=': "physics.substeps=8" -> {"physics.substeps", "8"}.
+struct Override {
+  std::string key;    ///< "section.key"
+  std::string value;  ///< the value as TOML text
+};
+
+/// Splits "section.key=value"; an argument without '=' is an Error naming it.
+Result<Override> ParseOverride(const std::string& argument);
+
+/// Sets "section.key" from text in the level's parameters and in every variant's. Nothing changes
+/// on error.
+Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text);
+
+/// Applies every `--set` argument in order to the level (and its variants). The first bad one is
+/// an Error "--set ARG: message"; the level is left as it was.
+Status ApplyOverrides(Level& level, const std::vector<std::string>& arguments);
+
+/// The same for a level's parameters alone (`sense` on a camera has no level).
+Status ApplyOverrides(LevelParams& params, const std::vector<std::string>& arguments);
+
+}  // namespace pg

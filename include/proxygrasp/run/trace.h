@@ -1,0 +1,76 @@
+// The one trace writer: a run's per-frame rows streamed to disk as the run goes (objects.csv,
+// frames.csv) and, when asked, its camera frames recorded losslessly beside them. The runner, the
+// app's recording and `run --record` all write through it, so every trace has the same columns.
+#pragma once
+
+#include "proxygrasp/core/error.h"
+#include "proxygrasp/sensing/recorder.h"
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+namespace pg {
+
+class Simulation;
+struct FrameStats;
+
+/// The objects.csv header line (without newline).
+inline constexpr const char* kObjectsCsvHeader =
+    "frame,t,object,x,y,angle_deg,vx,vy,omega_deg_s,held";
+/// The frames.csv header line (without newline).
+inline constexpr const char* kFramesCsvHeader =
+    "frame,t,contacts,particles,created,deleted,bodies,sense_ms,track_ms,proxy_ms,physics_ms,"
+    "total_ms";
+
+/// Where a recording's trace goes: the file's path without its extension plus "_trace"
+/// ("runs/push.mkv" -> "runs/push_trace").
+std::string RecordingTraceDir(const std::string& recordingPath);
+
+/// One objects.csv row per object after a frame: frame, t (s, the end of the frame), name,
+/// x, y (cm), angle (deg), vx, vy (cm/s), angular velocity (deg/s), held (0 or 1).
+std::string ObjectRows(const Simulation& sim);
+
+/// The frames.csv row of a frame's stats at time t (s, the end of the frame).
+std::string FrameRow(const FrameStats& stats, double t);
+
+/// Streams one run's traces. Rows go to disk as they are written; nothing of the run is kept in
+/// memory, whatever its length.
+class TraceWriter {
+ public:
+  TraceWriter() = default;
+  TraceWriter(const TraceWriter&) = delete;
+  TraceWriter& operator=(const TraceWriter&) = delete;
+  ~TraceWriter() { Close(); }
+
+  /// Creates dir (and its parents) and starts objects.csv and frames.csv there with their
+  /// headers. When videoPath is not empty, the camera frames (size, at frameRate) are recorded
+  /// there too (FFV1); its folder must exist, and it is opened first, so that a video that cannot
+  /// be written leaves no trace folder behind. Errors name the folder or file; on error nothing
+  /// stays open.
+  Status Open(const std::string& dir, const std::string& videoPath = "", cv::Size size = cv::Size(),
+              double frameRate = 0.0);
+
+  /// Appends the rows of the frame the simulation has just stepped, and its camera image when
+  /// recording. A failed write is an Error naming the file.
+  Status Write(const Simulation& sim);
+
+  /// Flushes and closes every file. Safe to call twice. An Error when the files could not be
+  /// completed.
+  Status Close();
+
+  bool IsOpen() const { return m_objects.is_open(); }
+  /// The folder of the CSV files.
+  const std::string& dir() const { return m_dir; }
+  /// Frames written since Open.
+  int64_t frames() const { return m_frames; }
+
+ private:
+  std::string m_dir;
+  std::ofstream m_objects;
+  std::ofstream m_frameRows;
+  FrameRecorder m_recorder;
+  int64_t m_frames = 0;
+};
+
+}  // namespace pg

@@ -1,0 +1,58 @@
+#include "proxygrasp/run/overrides.h"
+
+#include <cassert>
+
+namespace pg {
+
+namespace {
+
+// an error of one argument reads "--set ARG: message" and keeps no location of its own
+Error ArgumentError(const std::string& argument, const std::string& message) {
+  return MakeError({}, "--set " + argument + ": " + message);
+}
+
+// applies each argument through set(key, value) to a copy, and keeps the copy only when all pass
+template <typename T, typename SetFn>
+Status ApplyAll(T& target, const std::vector<std::string>& arguments, SetFn set) {
+  T probe = target;
+  for (const std::string& argument : arguments) {
+    Result<Override> o = ParseOverride(argument);
+    if (!o.ok()) return o.error();
+    if (Status s = set(probe, o.value().key, o.value().value)) {
+      return ArgumentError(argument, s->Format());
+    }
+  }
+  target = std::move(probe);
+  return std::nullopt;
+}
+
+}  // namespace
+
+Result<Override> ParseOverride(const std::string& argument) {
+  const size_t eq = argument.find('=');
+  if (eq == std::string::npos) return ArgumentError(argument, "expected section.key=value");
+  return Override{argument.substr(0, eq), argument.substr(eq + 1)};
+}
+
+Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text) {
+  // check on a copy first so an error leaves every parameter set as it was
+  LevelParams probe = level.params;
+  if (Status s = SetParam(probe, dottedKey, text)) return s;
+  level.params = probe;
+  for (Variant& v : level.variants) {
+    const Status s = SetParam(v.params, dottedKey, text);
+    assert(!s && "a key valid for the level is valid for its variants");
+    (void)s;
+  }
+  return std::nullopt;
+}
+
+Status ApplyOverrides(Level& level, const std::vector<std::string>& arguments) {
+  return ApplyAll(level, arguments, SetLevelParam);
+}
+
+Status ApplyOverrides(LevelParams& params, const std::vector<std::string>& arguments) {
+  return ApplyAll(params, arguments, SetParam);
+}
+
+}  // namespace pg

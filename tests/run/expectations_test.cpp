@@ -1,0 +1,102 @@
+#include "proxygrasp/run/expectations.h"
+
+#include "proxygrasp/run/simulation.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace pg {
+namespace {
+
+using ::testing::HasSubstr;
+
+// the level test data: a level naming variants, modes and every kind of expectation
+const std::string kData = std::string(PROXYGRASP_SOURCE_DIR) + "/tests/level/testdata";
+
+TEST(ExpectationText, ExpectationsDescribeThemselves) {
+  const Result<Level> r = LoadLevel(kData + "/complete.toml");
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  const auto& e = r.value().expectations;
+  EXPECT_EQ(ExpectationText(e[0]), "box turned >= 30 deg and <= 60 deg at the end");
+  EXPECT_EQ(ExpectationText(e[1]), "box within 1.5 cm of [30, 23] at 2 s");
+  EXPECT_EQ(ExpectationText(e[2]), "puck moved >= 0.5 cm at the end");
+  EXPECT_EQ(ExpectationText(e[3]), "box not held at 1.5 s (instant)");
+  EXPECT_EQ(ExpectationText(e[4]), "80% of thumb resting on the table at 2 s (single)");
+}
+
+// a box alone on the table, with expectations on it and no contact
+constexpr const char* kLoneBox = R"(
+[[objects]]
+name = "box"
+shape = "box"
+size_x = 4
+size_y = 4
+height = 2
+pos = [30, 23]
+
+[script]
+duration = 1
+
+[[expect]]
+kind = "held"
+object = "box"
+value = false
+at = 0.05
+
+[[expect]]
+kind = "held"
+object = "box"
+at = 0.5
+
+[[expect]]
+kind = "displacement"
+object = "box"
+below = 0.001
+
+[[expect]]
+kind = "position"
+object = "box"
+center = [30, 23]
+radius = 0.01
+at = 0.9
+)";
+
+TEST(Evaluator, ChecksEachExpectationWhenDueAndCountsOnlyTheLastHeldFrames) {
+  const Result<Level> r = ParseLevel(kLoneBox, "lone_box.toml");
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  const Level& level = r.value();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  const LevelRun run = LevelRuns(level)[0];
+  Evaluator evaluator(level, run, sim);
+  std::vector<ExpectationResult> results;
+  // 0.05 s is the end of frame 3 at 60 Hz: the first expectation is due then, over 3 frames
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_FALSE(sim.StepScript());
+    evaluator.AfterFrame(sim, sim.Time(), results);
+  }
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_TRUE(results[0].passed);
+  EXPECT_EQ(results[0].measured, "not held (0/3 frames)");
+  // 0.5 s: the held flags of only the last kHeldFrames frames count
+  for (int i = 3; i < 30; ++i) {
+    ASSERT_FALSE(sim.StepScript());
+    evaluator.AfterFrame(sim, sim.Time(), results);
+  }
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_FALSE(results[1].passed) << "nothing holds the box";
+  EXPECT_EQ(results[1].measured, "not held (0/6 frames)");
+  // at the end: the box never moved (no contact, at rest: exactly 0); the position check at
+  // 0.9 s is past the end of this run, stopped at 0.5 s, and fails as not reached
+  evaluator.Finish(sim, sim.Time(), results);
+  ASSERT_EQ(results.size(), 4u);
+  EXPECT_TRUE(results[2].passed) << results[2].measured;
+  EXPECT_EQ(results[2].measured, "0.000 cm");
+  EXPECT_FALSE(results[3].passed);
+  EXPECT_EQ(results[3].measured, "run ended at 0.500 s");
+}
+
+}  // namespace
+}  // namespace pg

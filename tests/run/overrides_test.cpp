@@ -1,0 +1,66 @@
+#include "proxygrasp/run/overrides.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace pg {
+namespace {
+
+using ::testing::HasSubstr;
+
+// the level test data: a level naming variants, modes and every kind of expectation
+const std::string kData = std::string(PROXYGRASP_SOURCE_DIR) + "/tests/level/testdata";
+
+TEST(Overrides, SetOverridesTheLevelAndEveryVariant) {
+  Result<Level> r = LoadLevel(kData + "/complete.toml");
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  Level& level = r.value();
+  EXPECT_FALSE(SetLevelParam(level, "physics.stack_size", "5"));
+  EXPECT_EQ(level.params.physics.stackSize, 5);
+  EXPECT_EQ(level.variants[0].params.physics.stackSize, 5) << "the command line wins";
+  EXPECT_FALSE(SetLevelParam(level, "physics.substeps", "2"));
+  EXPECT_EQ(level.variants[0].params.physics.substeps, 2);
+  const Status bad = SetLevelParam(level, "physics.stack_size", "99");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->message, "physics.stack_size: value 99 is out of range [1, 16]");
+  EXPECT_EQ(level.params.physics.stackSize, 5);
+  EXPECT_EQ(level.variants[0].params.physics.stackSize, 5);
+}
+
+TEST(Overrides, ParseSplitsAtTheFirstEqualsSign) {
+  const Result<Override> o = ParseOverride("sensing.calibration=a=b.yaml");
+  ASSERT_TRUE(o.ok());
+  EXPECT_EQ(o.value().key, "sensing.calibration");
+  EXPECT_EQ(o.value().value, "a=b.yaml");
+  const Result<Override> bad = ParseOverride("physics.substeps");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().Format(), "--set physics.substeps: expected section.key=value");
+}
+
+TEST(Overrides, ApplyAllOrNothingAndNameTheBadArgument) {
+  Result<Level> r = LoadLevel(kData + "/complete.toml");
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  Level& level = r.value();
+  const int substeps = level.params.physics.substeps;
+  // the second argument is bad: the first is not applied either
+  const Status bad = ApplyOverrides(level, {"physics.substeps=7", "physics.stack_size=99"});
+  ASSERT_TRUE(bad);
+  EXPECT_THAT(bad->Format(), HasSubstr("--set physics.stack_size=99: "));
+  EXPECT_THAT(bad->Format(), HasSubstr("out of range [1, 16]"));
+  EXPECT_EQ(level.params.physics.substeps, substeps);
+  EXPECT_FALSE(ApplyOverrides(level, {"physics.substeps=7", "tracking.max_distance=2"}));
+  EXPECT_EQ(level.params.physics.substeps, 7);
+  EXPECT_EQ(level.variants[0].params.physics.substeps, 7) << "variants follow the command line";
+
+  LevelParams params;
+  const Status unknown = ApplyOverrides(params, {"physics.substep=2"});
+  ASSERT_TRUE(unknown);
+  EXPECT_THAT(unknown->Format(), HasSubstr("--set physics.substep=2: "));
+  EXPECT_FALSE(ApplyOverrides(params, {"sensing.threshold=50"}));
+  EXPECT_EQ(params.sensing.threshold, 50);
+}
+
+}  // namespace
+}  // namespace pg

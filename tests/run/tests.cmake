@@ -1,0 +1,16 @@
+proxygrasp_test(run simulation)
+proxygrasp_test(run frame_input)
+proxygrasp_test(run trace)
+proxygrasp_test(run expectations)
+proxygrasp_test(run plan)
+proxygrasp_test(run overrides)
+proxygrasp_test(run runner)
+proxygrasp_test(run recording)
+
+# every level in levels/ is a test, run through the same runner as `proxygrasp run`
+file(GLOB PROXYGRASP_LEVELS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/levels/*.toml)
+foreach(level_file ${PROXYGRASP_LEVELS})
+  get_filename_component(level_name ${level_file} NAME_WE)
+  add_test(NAME level.${level_name} COMMAND proxygrasp run ${level_file})
+  set_tests_properties(level.${level_name} PROPERTIES LABELS "level;levels" TIMEOUT 300)
+endforeach()
