@@ -48,7 +48,7 @@ void LayerListener::PostSolve(b2Contact* contact, const b2ContactImpulse* impuls
   const uintptr_t b = contact->GetFixtureB()->GetUserData().pointer;
   const BodyKind ka = TagKind(a), kb = TagKind(b);
   double sign;
-  int object;
+  ObjectId object;
   if (ka == BodyKind::kObject && kb == BodyKind::kParticle) {
     object = TagIndex(a);
     sign = -1.0;  // the normal points from A (the object) to B
@@ -100,7 +100,7 @@ double LayeredWorld::Impl::TableNormal(int oi) const {
 void LayeredWorld::Impl::PrepareTableFriction() {
   onTop.assign(objects.size(), {});
   for (int i = 0; i < static_cast<int>(particles.size()); ++i) {
-    if (particles[i].restingOn >= 0) onTop[particles[i].restingOn].push_back(i);
+    if (particles[i].restingOn != kNoObject) onTop[particles[i].restingOn].push_back(i);
   }
   for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
     ObjectData& o = objects[oi];

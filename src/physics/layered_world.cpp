@@ -319,7 +319,8 @@ void LayeredWorld::StepFrame() {
   ++w.frame;
 }
 
-void LayeredWorld::ApplyForce(int object, const Vec2& force, const Vec2& worldPoint, int layer) {
+void LayeredWorld::ApplyForce(ObjectId object, const Vec2& force, const Vec2& worldPoint,
+                              int layer) {
   Impl& w = *m_impl;
   // bad pushes are counted and dropped, never simulated
   if (object < 0 || object >= ObjectCount() || !force.allFinite() || !worldPoint.allFinite()) {
@@ -438,7 +439,7 @@ int LayeredWorld::ObjectCount() const {
   return static_cast<int>(m_impl->objects.size());
 }
 
-ObjectState LayeredWorld::Object(int i) const {
+ObjectState LayeredWorld::Object(ObjectId i) const {
   assert(i >= 0 && i < ObjectCount() && "object index out of range");
   const ObjectData& o = m_impl->objects[i];
   ObjectState s;

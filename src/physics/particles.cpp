@@ -31,10 +31,10 @@ int LayeredWorld::Impl::SupportLayer(int o, double h) const {
 }
 
 void LayeredWorld::Impl::FindSupport(const Vec2& p, int maxLayer, int* layer, double* height,
-                                     int* object) const {
+                                     ObjectId* object) const {
   *layer = 0;
   *height = 0.0;
-  *object = -1;
+  *object = kNoObject;
   // with one layer nothing can rest on an object's top
   if (LayerCount() < 2) return;
   for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {

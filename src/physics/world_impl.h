@@ -43,7 +43,7 @@ inline Vec2 FromB2(const b2Vec2& v) {
 
 /// One particle-object contact's impulses in one Box2D solve.
 struct ContactRecord {
-  int object = -1;
+  ObjectId object = kNoObject;
   Vec2 normalIn = Vec2::Zero();   ///< unit normal pointing into the object
   Vec2 tangentIn = Vec2::Zero();  ///< unit tangent matching Box2D's tangent impulse sign
   double normalImpulse = 0.0;     ///< summed over manifold points, dyn s
@@ -148,7 +148,7 @@ struct ParticleData {
   Vec2 prevTarget = Vec2::Zero();  ///< the target of the previous frame (or the start)
   double baseHeight = 0.0;
   int baseLayer = 0;
-  int restingOn = -1;
+  ObjectId restingOn = kNoObject;
   std::vector<b2Body*> bodies;  ///< layers baseLayer, baseLayer + 1, ...
 };
 
@@ -179,8 +179,9 @@ struct LayeredWorld::Impl {
   void DestroyBodies(ParticleData& p);
   /// Layer a particle rests in on object o's surface at height h.
   int SupportLayer(int o, double h) const;
-  /// The highest surface under p no higher than maxLayer: its layer, height and object (-1 table).
-  void FindSupport(const Vec2& p, int maxLayer, int* layer, double* height, int* object) const;
+  /// The highest surface under p no higher than maxLayer: its layer, height and object (kNoObject:
+  /// the table).
+  void FindSupport(const Vec2& p, int maxLayer, int* layer, double* height, ObjectId* object) const;
   /// Base layer of a new particle placed at p resting at height baseHeight.
   int CreationLayer(const Vec2& p, double baseHeight) const;
   /// F = m((x* - x)/dt - v)/dt on every particle body, x* interpolated at fraction alpha.

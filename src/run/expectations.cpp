@@ -13,12 +13,6 @@ namespace pg {
 
 namespace {
 
-std::string Fixed(double v, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, v);
-  return buffer;
-}
-
 std::string VecText(const Vec2& v) {
   return "[" + FormatDouble(v.x()) + ", " + FormatDouble(v.y()) + "]";
 }
@@ -112,7 +106,8 @@ void Evaluator::Finish(const Simulation& sim, double t, std::vector<ExpectationR
   for (const Expectation* e : m_pending) {
     const double at = e->at.value_or(DefaultTime(*e));
     if (std::isfinite(at) && at > t + 1e-9) {
-      results.push_back({e, ExpectationText(*e), "run ended at " + Fixed(t, 3) + " s", false});
+      results.push_back(
+          {e, ExpectationText(*e), "run ended at " + FormatFixed(t, 3) + " s", false});
     } else {
       results.push_back(Check(*e, sim));
     }
@@ -135,33 +130,33 @@ double Evaluator::DefaultTime(const Expectation& e) const {
   return std::numeric_limits<double>::infinity();
 }
 
-int Evaluator::ObjectIndex(const std::string& name) const {
+ObjectId Evaluator::ObjectIndex(const std::string& name) const {
   for (size_t i = 0; i < m_level.objects.size(); ++i) {
-    if (m_level.objects[i].name == name) return static_cast<int>(i);
+    if (m_level.objects[i].name == name) return static_cast<ObjectId>(i);
   }
-  return -1;
+  return kNoObject;
 }
 
 ExpectationResult Evaluator::Check(const Expectation& e, const Simulation& sim) const {
   ExpectationResult r{&e, ExpectationText(e), "", false};
-  const int object = ObjectIndex(e.object);
+  const ObjectId object = ObjectIndex(e.object);
   switch (e.kind) {
     case ExpectKind::kPosition: {
       const Vec2 p = sim.world().Object(object).pose.pos;
-      r.measured = "(" + Fixed(p.x(), 2) + ", " + Fixed(p.y(), 2) + ") cm";
+      r.measured = "(" + FormatFixed(p.x(), 2) + ", " + FormatFixed(p.y(), 2) + ") cm";
       r.passed = e.region.Contains(p);
       break;
     }
     case ExpectKind::kRotation: {
       const double rotation = m_objects[static_cast<size_t>(object)].rotation;
-      r.measured = Fixed(RadToDeg(rotation), 1) + " deg";
+      r.measured = FormatFixed(RadToDeg(rotation), 1) + " deg";
       r.passed = rotation >= e.minAngle && rotation <= e.maxAngle;
       break;
     }
     case ExpectKind::kDisplacement: {
       const ObjectTrack& track = m_objects[static_cast<size_t>(object)];
       const double d = (sim.world().Object(object).pose.pos - track.start).norm();
-      r.measured = Fixed(d, 3) + " cm";
+      r.measured = FormatFixed(d, 3) + " cm";
       r.passed = d >= e.above && d <= e.below;
       break;
     }
@@ -182,7 +177,7 @@ ExpectationResult Evaluator::Check(const Expectation& e, const Simulation& sim) 
       for (size_t i = 0; i < m_level.script.contacts.size(); ++i) {
         if (m_level.script.contacts[i].name == e.contact) scriptIndex = static_cast<int>(i);
       }
-      const int on = e.OnTable() ? -1 : ObjectIndex(e.on);
+      const ObjectId on = e.OnTable() ? kNoObject : ObjectIndex(e.on);
       int total = 0;
       int resting = 0;
       for (const ParticleState& p : sim.world().Particles()) {
@@ -192,7 +187,7 @@ ExpectationResult Evaluator::Check(const Expectation& e, const Simulation& sim) 
       }
       const double fraction = total > 0 ? static_cast<double>(resting) / total : 0.0;
       r.measured = std::to_string(resting) + "/" + std::to_string(total) + " particles (" +
-                   Fixed(100.0 * fraction, 0) + "%)";
+                   FormatFixed(100.0 * fraction, 0) + "%)";
       r.passed = total > 0 && fraction >= e.fraction;
       break;
     }

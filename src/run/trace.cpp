@@ -1,5 +1,6 @@
 #include "proxygrasp/run/trace.h"
 
+#include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/run/simulation.h"
 
@@ -7,16 +8,6 @@
 #include <filesystem>
 
 namespace pg {
-
-namespace {
-
-std::string Fixed(double v, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, v);
-  return buffer;
-}
-
-}  // namespace
 
 std::string RecordingTraceDir(const std::string& recordingPath) {
   std::filesystem::path p(recordingPath);
@@ -26,24 +17,25 @@ std::string RecordingTraceDir(const std::string& recordingPath) {
 std::string ObjectRows(const Simulation& sim) {
   // the state after frame n belongs to the time at the end of the frame, Time() after the step
   const std::string frame = std::to_string(sim.Frame() - 1);
-  const std::string t = Fixed(sim.Time(), 6);
+  const std::string t = FormatFixed(sim.Time(), 6);
   std::string rows;
   for (int i = 0; i < sim.world().ObjectCount(); ++i) {
     const ObjectState s = sim.world().Object(i);
-    rows += frame + "," + t + "," + s.name + "," + Fixed(s.pose.pos.x(), 6) + "," +
-            Fixed(s.pose.pos.y(), 6) + "," + Fixed(RadToDeg(s.pose.angle), 6) + "," +
-            Fixed(s.velocity.x(), 6) + "," + Fixed(s.velocity.y(), 6) + "," +
-            Fixed(RadToDeg(s.angularVelocity), 6) + "," + (s.held ? "1" : "0") + "\n";
+    rows += frame + "," + t + "," + s.name + "," + FormatFixed(s.pose.pos.x(), 6) + "," +
+            FormatFixed(s.pose.pos.y(), 6) + "," + FormatFixed(RadToDeg(s.pose.angle), 6) + "," +
+            FormatFixed(s.velocity.x(), 6) + "," + FormatFixed(s.velocity.y(), 6) + "," +
+            FormatFixed(RadToDeg(s.angularVelocity), 6) + "," + (s.held ? "1" : "0") + "\n";
   }
   return rows;
 }
 
 std::string FrameRow(const FrameStats& f, double t) {
-  return std::to_string(f.frame) + "," + Fixed(t, 6) + "," + std::to_string(f.contacts) + "," +
-         std::to_string(f.particles) + "," + std::to_string(f.created) + "," +
-         std::to_string(f.deleted) + "," + std::to_string(f.bodies) + "," + Fixed(f.senseMs, 4) +
-         "," + Fixed(f.trackMs, 4) + "," + Fixed(f.proxyMs, 4) + "," + Fixed(f.physicsMs, 4) + "," +
-         Fixed(f.totalMs, 4) + "\n";
+  return std::to_string(f.frame) + "," + FormatFixed(t, 6) + "," + std::to_string(f.contacts) +
+         "," + std::to_string(f.particles) + "," + std::to_string(f.created) + "," +
+         std::to_string(f.deleted) + "," + std::to_string(f.bodies) + "," +
+         FormatFixed(f.senseMs, 4) + "," + FormatFixed(f.trackMs, 4) + "," +
+         FormatFixed(f.proxyMs, 4) + "," + FormatFixed(f.physicsMs, 4) + "," +
+         FormatFixed(f.totalMs, 4) + "\n";
 }
 
 Status TraceWriter::Open(const std::string& dir, const std::string& videoPath, cv::Size size,

@@ -21,6 +21,12 @@ TEST(Text, DidYouMeanFindsCloseKeyOnly) {
   EXPECT_EQ(DidYouMean("completely_different", keys), "");
 }
 
+TEST(Text, FormatFixedKeepsItsDecimals) {
+  EXPECT_EQ(FormatFixed(0.05, 6), "0.050000");
+  EXPECT_EQ(FormatFixed(-1.23456, 2), "-1.23");
+  EXPECT_EQ(FormatFixed(2.5, 0), "2");  // round half to even, as printf
+}
+
 TEST(Text, FormatDoubleRoundTrips) {
   EXPECT_EQ(FormatDouble(0.3), "0.3");
   EXPECT_EQ(FormatDouble(61.0), "61");

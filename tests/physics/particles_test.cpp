@@ -370,7 +370,7 @@ TEST(Support, ParticleFallsToTableWhenBoxSlidesAway) {
   ASSERT_GT(w.Object(0).pose.pos.x() - 2.0, 20.0);
   const ParticleState s = w.Particles()[0];
   EXPECT_EQ(s.baseLayer, 0);
-  EXPECT_EQ(s.restingOn, -1);
+  EXPECT_EQ(s.restingOn, kNoObject);
   EXPECT_EQ(s.baseHeight, 0.0);
   EXPECT_NEAR((s.pos - Vec2(20, 23)).norm(), 0.0, 1e-4);
 }
@@ -404,7 +404,7 @@ TEST(Support, ParticleFallsOntoLowerObjectAndNeverClimbs) {
   EXPECT_DOUBLE_EQ(t[0].baseHeight, 2.0);
   // the second one is stopped by the low box's side and stays on the table
   EXPECT_EQ(t[1].baseLayer, 0);
-  EXPECT_EQ(t[1].restingOn, -1);
+  EXPECT_EQ(t[1].restingOn, kNoObject);
   const double face = w.Object(1).pose.pos.x() + 2.5;
   EXPECT_NEAR(t[1].pos.x(), face + p.particleRadius, 0.02);
 }

@@ -49,7 +49,7 @@ TEST(Simulation, ScriptRunsTheWholePipeline) {
   EXPECT_EQ(sim.stats().bodies, sim.stats().particles + 2);  // 2 slices of a 2 cm box
   EXPECT_EQ(sim.Frame(), 1);
   EXPECT_DOUBLE_EQ(sim.Time(), 1.0 / 60.0);
-  for (const ParticleState& p : sim.world().Particles()) EXPECT_EQ(p.restingOn, -1);
+  for (const ParticleState& p : sim.world().Particles()) EXPECT_EQ(p.restingOn, kNoObject);
 }
 
 TEST(Simulation, AttributesTrackedContactsToScriptContacts) {

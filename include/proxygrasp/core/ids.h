@@ -9,10 +9,13 @@ namespace pg {
 using ContactId = int32_t;
 /// Id of a particle proxy (a stack of bodies in the physics).
 using ParticleId = int32_t;
-/// Id of a virtual object, its index in the level's object list.
+/// A virtual object: its index in the level's object list, from 0 (unlike the ids above, which
+/// are counted from 1).
 using ObjectId = int32_t;
+/// The ObjectId that names no object: what a particle resting on the bare table rests on.
+inline constexpr ObjectId kNoObject = -1;
 
-/// The id that names nothing.
+/// The contact or particle id that names nothing.
 inline constexpr int32_t kNoId = 0;
 
 /// Hands out ids 1, 2, 3, ... and never reuses one.

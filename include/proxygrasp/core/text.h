@@ -1,4 +1,4 @@
-// String helpers for messages: edit distance and "did you mean" hints.
+// String helpers for messages and traces: edit distance, "did you mean" hints, numbers.
 #pragma once
 
 #include <span>
@@ -19,5 +19,8 @@ std::string DidYouMean(std::string_view name, std::span<const std::string> candi
 
 /// Formats a double compactly: shortest text that reads back to the same value ("0.3", "1e-06").
 std::string FormatDouble(double v);
+
+/// Formats a double with a fixed number of decimals, as printf's "%.*f" ("0.050000").
+std::string FormatFixed(double v, int decimals);
 
 }  // namespace pg

@@ -58,7 +58,7 @@ class LayeredWorld : public SceneQuery {
   /// An external force, dyn, at a table point, cm, acting through the object's slice in `layer`
   /// for every substep of the next frame. Layers the object does not occupy are clamped to its
   /// top slice; an unknown object or a non-finite value is counted (PlanErrors) and dropped.
-  void ApplyForce(int object, const Vec2& force, const Vec2& worldPoint, int layer);
+  void ApplyForce(ObjectId object, const Vec2& force, const Vec2& worldPoint, int layer);
 
   // SceneQuery, answered from the state after the last frame.
   double TopHeightAt(const Vec2& p) const override;
@@ -70,7 +70,7 @@ class LayeredWorld : public SceneQuery {
   /// Number of objects.
   int ObjectCount() const;
   /// The state of object i after the last frame.
-  ObjectState Object(int i) const;
+  ObjectState Object(ObjectId i) const;
   /// The forces object i received from particles during the last frame.
   ObjectForces Forces(int i) const;
   /// The slices of object i, lowest layer first, in its local frame.

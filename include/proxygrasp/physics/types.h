@@ -107,12 +107,12 @@ struct SliceOutline {
 struct ParticleState {
   ParticleId id = kNoId;
   ContactId contact = kNoId;
-  Vec2 pos = Vec2::Zero();     ///< base body position, cm
-  Vec2 target = Vec2::Zero();  ///< where kinematic control drives it this frame, cm
-  double baseHeight = 0.0;     ///< height of the surface it rests on, cm
-  int baseLayer = 0;           ///< layer of its lowest body
-  int layerCount = 0;          ///< bodies in the stack (consecutive layers from the base)
-  int restingOn = -1;          ///< object index it rests on, -1 for the table
+  Vec2 pos = Vec2::Zero();         ///< base body position, cm
+  Vec2 target = Vec2::Zero();      ///< where kinematic control drives it this frame, cm
+  double baseHeight = 0.0;         ///< height of the surface it rests on, cm
+  int baseLayer = 0;               ///< layer of its lowest body
+  int layerCount = 0;              ///< bodies in the stack (consecutive layers from the base)
+  ObjectId restingOn = kNoObject;  ///< the object it rests on; kNoObject: the table
 };
 
 void Describe(PhysicsParams& p, ParamVisitor& v);

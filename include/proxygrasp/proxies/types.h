@@ -28,7 +28,8 @@ inline constexpr const char* kPlacementNames[] = {"raycast", "ground"};
 struct ProxyParams {
   ProxyMode mode = ProxyMode::kPersistent;
   MatchAlgorithm algorithm = MatchAlgorithm::kFast;
-  int window = 8;              ///< n, contour points summed around each match (even), points
+  int window = 8;              ///< n: the window sum runs over i = -n/2..n/2 around each match
+                               ///< (integer halves: an odd n sums as n - 1 does), points
   int searchRadius = 12;       ///< w, half-width of the windowed search, points
   bool subsample = true;       ///< refine reused targets between contour samples (parabola
                                ///< through the window scores of the successor's neighbours)

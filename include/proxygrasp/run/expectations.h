@@ -55,7 +55,7 @@ class Evaluator {
   };
 
   double DefaultTime(const Expectation& e) const;
-  int ObjectIndex(const std::string& name) const;
+  ObjectId ObjectIndex(const std::string& name) const;
   ExpectationResult Check(const Expectation& e, const Simulation& sim) const;
 
   const Level& m_level;
