@@ -457,7 +457,7 @@ ObjectState LayeredWorld::Object(ObjectId i) const {
   return s;
 }
 
-ObjectForces LayeredWorld::Forces(int i) const {
+ObjectForces LayeredWorld::Forces(ObjectId i) const {
   assert(i >= 0 && i < ObjectCount() && "object index out of range");
   const ObjectData& o = m_impl->objects[i];
   ObjectForces f;
@@ -474,7 +474,7 @@ ObjectForces LayeredWorld::Forces(int i) const {
   return f;
 }
 
-std::vector<SliceOutline> LayeredWorld::Slices(int i) const {
+std::vector<SliceOutline> LayeredWorld::Slices(ObjectId i) const {
   assert(i >= 0 && i < ObjectCount() && "object index out of range");
   std::vector<SliceOutline> out;
   for (const Slice& s : m_impl->objects[i].slices) {

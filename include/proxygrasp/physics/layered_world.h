@@ -72,9 +72,9 @@ class LayeredWorld : public SceneQuery {
   /// The state of object i after the last frame.
   ObjectState Object(ObjectId i) const;
   /// The forces object i received from particles during the last frame.
-  ObjectForces Forces(int i) const;
+  ObjectForces Forces(ObjectId i) const;
   /// The slices of object i, lowest layer first, in its local frame.
-  std::vector<SliceOutline> Slices(int i) const;
+  std::vector<SliceOutline> Slices(ObjectId i) const;
   /// Every particle stack, in creation order.
   std::vector<ParticleState> Particles() const;
   /// Number of particle stacks.
