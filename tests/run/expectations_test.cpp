@@ -7,6 +7,8 @@
 
 #include <string>
 
+#include "run/test_levels.h"
+
 namespace pg {
 namespace {
 
@@ -27,15 +29,7 @@ TEST(ExpectationText, ExpectationsDescribeThemselves) {
 }
 
 // a box alone on the table, with expectations on it and no contact
-constexpr const char* kLoneBox = R"(
-[[objects]]
-name = "box"
-shape = "box"
-size_x = 4
-size_y = 4
-height = 2
-pos = [30, 23]
-
+const std::string kLoneBox = test::BoxToml("box", 30, 23) + R"(
 [script]
 duration = 1
 
@@ -64,9 +58,7 @@ at = 0.9
 )";
 
 TEST(Evaluator, ChecksEachExpectationWhenDueAndCountsOnlyTheLastHeldFrames) {
-  const Result<Level> r = ParseLevel(kLoneBox, "lone_box.toml");
-  ASSERT_TRUE(r.ok()) << r.error().Format();
-  const Level& level = r.value();
+  const Level level = test::ParseOrFail(kLoneBox, "lone_box.toml");
   Simulation sim;
   ASSERT_FALSE(sim.Start(level, level.params));
   const LevelRun run = LevelRuns(level)[0];

@@ -9,6 +9,8 @@
 
 #include <filesystem>
 
+#include "run/test_levels.h"
+
 namespace pg {
 namespace {
 
@@ -16,26 +18,10 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 // a fingertip pushing a box 2 cm over half a second
-constexpr const char* kPush = R"(
-[[objects]]
-name = "box"
-shape = "box"
-size_x = 4
-size_y = 4
-height = 2
-pos = [30, 23]
-
-[[script.contacts]]
-name = "finger"
-shape = "circle"
-radius = 0.8
-keys = [{t = 0, pos = [26, 23]}, {t = 0.5, pos = [29.2, 23]}]
-)";
-
 Level Push() {
-  const Result<Level> r = ParseLevel(kPush, "frame_input.toml");
-  EXPECT_TRUE(r.ok()) << r.error().Format();
-  return r.value();
+  return test::ParseOrFail(
+      test::BoxToml("box", 30, 23) + test::FingerToml("finger", 26, 23, 0, 29.2, 23, 0.5),
+      "frame_input.toml");
 }
 
 TEST(FrameInput, ScriptAndShapesStepThroughTheCamera) {

@@ -10,38 +10,25 @@
 #include <fstream>
 #include <sstream>
 
+#include "run/test_levels.h"
+
 namespace pg {
 namespace {
 
 using ::testing::HasSubstr;
 
 Level Parse(const std::string& text) {
-  const Result<Level> level = ParseLevel(text, "runner.toml");
-  EXPECT_TRUE(level.ok()) << level.error().Format();
-  return level.value();
+  return test::ParseOrFail(text, "runner.toml");
 }
 
 // a finger pushes a box 3 cm along x; the expectations below know the box's analytic end
-constexpr const char* kPush = R"(
-[[objects]]
-name = "box"
-shape = "box"
-size_x = 4
-size_y = 4
-height = 2
-pos = [30, 23]
-
-[[script.contacts]]
-name = "finger"
-shape = "circle"
-radius = 0.8
-keys = [{t = 0, pos = [25, 23]}, {t = 1, pos = [30.2, 23]}]
-)";
+const std::string kPush =
+    test::BoxToml("box", 30, 23) + test::FingerToml("finger", 25, 23, 0, 30.2, 23, 1);
 
 TEST(Runner, EvaluatesExpectationsAndReportsEach) {
   // the finger's far edge ends at 31.0, pushing the box's left face (28) there: 3 cm, and a
   // little more as it slides on after the finger stops
-  const Level level = Parse(std::string(kPush) + R"(
+  const Level level = Parse(kPush + R"(
 [[expect]]
 kind = "displacement"
 object = "box"
@@ -81,7 +68,7 @@ on = "table"
 }
 
 TEST(Runner, ExpectationAfterTheRunFailsAsNotReached) {
-  const Level level = Parse(std::string(kPush) + R"(
+  const Level level = Parse(kPush + R"(
 [[expect]]
 kind = "displacement"
 object = "box"
@@ -98,7 +85,7 @@ at = 1.9
 }
 
 TEST(Runner, RunsEveryModeItsExpectationsName) {
-  const Level level = Parse(std::string(kPush) + R"(
+  const Level level = Parse(kPush + R"(
 [[expect]]
 kind = "displacement"
 object = "box"

@@ -5,36 +5,19 @@
 
 #include <cmath>
 
+#include "run/test_levels.h"
+
 namespace pg {
 namespace {
 
 using ::testing::HasSubstr;
 
+// a box between two fingertips that slide past it, 10 cm apart
 Level BoxLevel() {
-  const Result<Level> level = ParseLevel(R"(
-[[objects]]
-name = "box"
-shape = "box"
-size_x = 4
-size_y = 4
-height = 2
-pos = [30, 23]
-
-[[script.contacts]]
-name = "left"
-shape = "circle"
-radius = 0.8
-keys = [{t = 0, pos = [20, 23]}, {t = 1, pos = [20, 30]}]
-
-[[script.contacts]]
-name = "right"
-shape = "circle"
-radius = 0.8
-keys = [{t = 0, pos = [40, 23]}, {t = 1, pos = [40, 30]}]
-)",
-                                         "sim.toml");
-  EXPECT_TRUE(level.ok()) << level.error().Format();
-  return level.value();
+  return test::ParseOrFail(test::BoxToml("box", 30, 23) +
+                               test::FingerToml("left", 20, 23, 0, 20, 30, 1) +
+                               test::FingerToml("right", 40, 23, 0, 40, 30, 1),
+                           "sim.toml");
 }
 
 TEST(Simulation, ScriptRunsTheWholePipeline) {

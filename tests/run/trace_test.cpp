@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "run/test_levels.h"
+
 namespace pg {
 namespace {
 
@@ -24,34 +26,10 @@ std::string ReadText(const std::string& path) {
 }
 
 // two boxes and a fingertip moving towards one of them
-constexpr const char* kTwoBoxes = R"(
-[[objects]]
-name = "left"
-shape = "box"
-size_x = 4
-size_y = 4
-height = 2
-pos = [20, 23]
-
-[[objects]]
-name = "right"
-shape = "box"
-size_x = 4
-size_y = 4
-height = 2
-pos = [40, 23]
-
-[[script.contacts]]
-name = "finger"
-shape = "circle"
-radius = 0.8
-keys = [{t = 0, pos = [30, 23]}, {t = 1, pos = [35, 23]}]
-)";
-
 Level TwoBoxes() {
-  const Result<Level> r = ParseLevel(kTwoBoxes, "trace.toml");
-  EXPECT_TRUE(r.ok()) << r.error().Format();
-  return r.value();
+  return test::ParseOrFail(test::BoxToml("left", 20, 23) + test::BoxToml("right", 40, 23) +
+                               test::FingerToml("finger", 30, 23, 0, 35, 23, 1),
+                           "trace.toml");
 }
 
 TEST(Trace, RecordingTraceDirSitsBesideTheVideo) {
