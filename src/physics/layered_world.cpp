@@ -559,7 +559,12 @@ Status LayeredWorld::SetParams(const PhysicsParams& physics) {
   return std::nullopt;
 }
 
-const PhysicsParams& LayeredWorld::Params() const {
+void LayeredWorld::Step(const ParticlePlan& plan) {
+  ApplyPlan(plan);
+  StepFrame();
+}
+
+const PhysicsParams& LayeredWorld::params() const {
   return m_impl->params;
 }
 

@@ -1,5 +1,6 @@
 #include "proxygrasp/proxies/proxy_stage.h"
 
+#include "proxygrasp/core/params.h"
 #include "proxygrasp/proxies/matching.h"
 
 #include <algorithm>
@@ -159,9 +160,17 @@ void Count(ParticlePlan& plan) {
 
 }  // namespace
 
-ParticlePlan ProxyStage::Update(const ProxyParams& params, const ContactSet& contacts,
-                                const SceneQuery& scene, std::span<const ParticleFeedback> feedback,
-                                const TableImage* image) {
+Status ProxyStage::SetParams(const ProxyParams& params) {
+  ProxyParams checked = params;
+  const ParamSection section{"proxies", [&checked](ParamVisitor& v) { Describe(checked, v); }};
+  if (Status s = CheckFields(section)) return s;
+  m_params = params;
+  return std::nullopt;
+}
+
+ParticlePlan ProxyStage::Step(const ContactSet& contacts, const SceneQuery& scene,
+                              std::span<const ParticleFeedback> feedback, const TableImage* image) {
+  const ProxyParams& params = m_params;
   ParticlePlan plan;
   plan.frame = contacts.frame;
   m_feedback.clear();

@@ -28,6 +28,8 @@ Status Simulation::Start(const Level& level, const LevelParams& params,
     if (Status s = next.m_sensor.SetBackground(next.m_camera->Background())) return s;
     next.m_backgroundFromCamera = true;
   }
+  if (Status s = next.m_tracker.SetParams(params.tracking)) return s;
+  if (Status s = next.m_proxies.SetParams(params.proxies)) return s;
   if (Status s = next.m_world.Build(params.physics, params.table, level.objects)) return s;
   *this = std::move(next);
   return std::nullopt;
@@ -65,11 +67,13 @@ Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
   }
   if (!report.restart.empty()) return report;
 
-  // the stages with state built from their parameters take the change in place (their fixed
-  // keys and ranges were checked above, so none rejects it); the others read m_params every frame
+  // every stage takes the change in place (the fixed keys and ranges were checked above, so none
+  // rejects it)
   if (Status s = m_sensor.SetParams(params.sensing)) return *s;
   if (Status s = m_camera->SetParams(params.camera)) return *s;
   if (Status s = m_world.SetParams(params.physics)) return *s;
+  if (Status s = m_tracker.SetParams(params.tracking)) return *s;
+  if (Status s = m_proxies.SetParams(params.proxies)) return *s;
   // a background taken from the camera's clear table follows its lighting
   const bool lighting = params.camera.background != m_params.camera.background ||
                         params.camera.gradient != m_params.camera.gradient ||
@@ -127,7 +131,7 @@ Status Simulation::Process(const cv::Mat& frame) {
 
   // sensing: frame -> contours in table cm
   Stopwatch watch;
-  Result<ContourFrame> sensed = m_sensor.Process(frame, m_frame, stats.time, instant);
+  Result<ContourFrame> sensed = m_sensor.Step(frame, m_frame, stats.time, instant);
   if (!sensed.ok()) return sensed.error();
   m_contours = std::move(sensed.value());
   ProcessContours(stats, watch.Ms());
@@ -141,7 +145,7 @@ void Simulation::ProcessContours(FrameStats& stats, double senseMs) {
 
   // tracking: stable contact ids
   Stopwatch watch;
-  m_contacts = m_tracker.Update(m_params.tracking, m_contours);
+  m_contacts = m_tracker.Step(m_contours);
   stats.trackMs = watch.Ms();
   AttributeContacts();
 
@@ -149,14 +153,13 @@ void Simulation::ProcessContours(FrameStats& stats, double senseMs) {
     // proxies: the particle plan, asking the world as it was after the last frame
     watch.Restart();
     const std::vector<ParticleFeedback> feedback = m_world.Feedback();
-    m_plan = m_proxies.Update(m_params.proxies, m_contacts, m_world, feedback,
-                              instant ? &m_contours.tableImage : nullptr);
+    m_plan =
+        m_proxies.Step(m_contacts, m_world, feedback, instant ? &m_contours.tableImage : nullptr);
     stats.proxyMs = watch.Ms();
 
     // physics: apply the plan and advance one frame
     watch.Restart();
-    m_world.ApplyPlan(m_plan);
-    m_world.StepFrame();
+    m_world.Step(m_plan);
     stats.physicsMs = watch.Ms();
   }
   stats.totalMs = senseMs + total.Ms();

@@ -189,8 +189,8 @@ Status Sensor::SetBackground(const cv::Mat& background) {
   return std::nullopt;
 }
 
-Result<ContourFrame> Sensor::Process(const cv::Mat& frame, int64_t index, double time,
-                                     bool wantTableImage) {
+Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double time,
+                                  bool wantTableImage) {
   const SourceLoc where{"frame " + std::to_string(index)};
   if (!m_configured) return MakeError(where, "the sensor is not configured");
   const cv::Size expected = m_model.imageSize;

@@ -1,10 +1,21 @@
 #include "proxygrasp/tracking/tracker.h"
 
+#include "proxygrasp/core/params.h"
+
 #include <algorithm>
 
 namespace pg {
 
-ContactSet Tracker::Update(const TrackingParams& params, const ContourFrame& frame) {
+Status Tracker::SetParams(const TrackingParams& params) {
+  TrackingParams checked = params;
+  const ParamSection section{"tracking", [&checked](ParamVisitor& v) { Describe(checked, v); }};
+  if (Status s = CheckFields(section)) return s;
+  m_params = params;
+  return std::nullopt;
+}
+
+ContactSet Tracker::Step(const ContourFrame& frame) {
+  const TrackingParams& params = m_params;
   ContactSet out;
   out.frame = frame.index;
   out.time = frame.time;

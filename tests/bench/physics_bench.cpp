@@ -1,4 +1,4 @@
-// LayeredWorld::StepFrame on a two-hand scene: K = 8 layers, 10 objects, 600 particles (two hand
+// LayeredWorld::Step on a two-hand scene: K = 8 layers, 10 objects, 600 particles (two hand
 // outlines of 300 points sweeping over the objects), serial versus threaded layer stepping.
 //   build/release/bench_physics [--benchmark_filter=...]
 #include "proxygrasp/core/units.h"
@@ -92,8 +92,7 @@ void BM_StepFrameTwoHands(benchmark::State& state) {
       pp.action = ParticleAction::kReused;
       pp.target = HandPoint(HandCentre(hand, t), i, t);
     }
-    world.ApplyPlan(plan);
-    world.StepFrame();
+    world.Step(plan);
   };
   for (int i = 0; i < 60; ++i) step();
   for (auto _ : state) step();

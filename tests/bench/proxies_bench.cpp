@@ -136,7 +136,7 @@ void StageRun(benchmark::State& state, MatchAlgorithm algorithm) {
   ProxyParams params;
   params.algorithm = algorithm;
   EmptyScene scene;
-  ProxyStage stage;
+  ProxyStage stage(params);
   int f = 0;
   for (auto _ : state) {
     ContactSet set;
@@ -148,7 +148,7 @@ void StageRun(benchmark::State& state, MatchAlgorithm algorithm) {
       c.blob.contour = frames[f].hands[h];
       set.contacts.push_back(c);
     }
-    const ParticlePlan plan = stage.Update(params, set, scene, {}, nullptr);
+    const ParticlePlan plan = stage.Step(set, scene, {}, nullptr);
     benchmark::DoNotOptimize(plan.particles.data());
     f = (f + 1) % (kFrames + 1);
     // start over rather than jump from the last frame back to the first

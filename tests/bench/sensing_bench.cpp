@@ -49,12 +49,11 @@ void SenseAndTrack(benchmark::State& state, const std::string& scene, double dis
     return;
   }
   Tracker tracker;
-  const TrackingParams tracking;
   int64_t index = 0;
   size_t contacts = 0, points = 0;
   for (auto _ : state) {
-    Result<ContourFrame> frame = sensor.Process(rec.frames[index % kFrames], index, index / 60.0);
-    const ContactSet set = tracker.Update(tracking, frame.value());
+    Result<ContourFrame> frame = sensor.Step(rec.frames[index % kFrames], index, index / 60.0);
+    const ContactSet set = tracker.Step(frame.value());
     contacts = set.contacts.size();
     points = 0;
     for (const Contact& c : set.contacts) points += static_cast<size_t>(c.blob.contour.cols());

@@ -302,7 +302,7 @@ TEST(SetParams, RetunedWorldRunsLikeOneBuiltWithTheNewParameters) {
   Busy built(1, tuned), retuned(1);
   tuned.threads = 2;  // threads change the pool, never the results
   ASSERT_EQ(retuned.world.SetParams(tuned), std::nullopt);
-  EXPECT_EQ(retuned.world.Params().substeps, 5);
+  EXPECT_EQ(retuned.world.params().substeps, 5);
   for (int f = 0; f < 60; ++f) {
     built.Frame(f);
     retuned.Frame(f);
@@ -331,7 +331,7 @@ TEST(SetParams, KeepsTheStateAndChangesTheRunFromTheNextFrame) {
 TEST(SetParams, RebuildKeysAndBadValuesAreErrorsThatChangeNothing) {
   Busy b(1);
   b.Frame(0);
-  const PhysicsParams before = b.world.Params();
+  const PhysicsParams before = b.world.params();
   PhysicsParams p = before;
   p.layers = 6;
   p.particleRadius = 0.3;
@@ -340,13 +340,13 @@ TEST(SetParams, RebuildKeysAndBadValuesAreErrorsThatChangeNothing) {
   Status s = b.world.SetParams(p);
   ASSERT_NE(s, std::nullopt);
   EXPECT_THAT(s->Format(), ::testing::HasSubstr("layers"));
-  EXPECT_EQ(b.world.Params().substeps, before.substeps);
+  EXPECT_EQ(b.world.params().substeps, before.substeps);
   p = before;
   p.substeps = 0;
   s = b.world.SetParams(p);
   ASSERT_NE(s, std::nullopt);
   EXPECT_THAT(s->Format(), ::testing::HasSubstr("substeps"));
-  EXPECT_EQ(b.world.Params().substeps, before.substeps);
+  EXPECT_EQ(b.world.params().substeps, before.substeps);
   EXPECT_TRUE(b.world.FixedKeysChanged(before).empty());
   LayeredWorld empty;
   EXPECT_NE(empty.SetParams(before), std::nullopt);

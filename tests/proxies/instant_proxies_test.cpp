@@ -14,6 +14,14 @@
 namespace pg {
 namespace {
 
+// one frame with these parameters: they may change from frame to frame
+ParticlePlan StepWith(ProxyStage& stage, const ProxyParams& params, const ContactSet& contacts,
+                      const SceneQuery& scene, std::span<const ParticleFeedback> feedback,
+                      const TableImage* image) {
+  EXPECT_FALSE(stage.SetParams(params));
+  return stage.Step(contacts, scene, feedback, image);
+}
+
 using testing::Box;
 using testing::BoxScene;
 using testing::CircleOutline;
@@ -117,7 +125,8 @@ TEST(InstantProxies, EveryFrameReplacesEveryParticle) {
     const std::vector<std::pair<cv::Point, int>> discs = {{cv::Point(80 + 6 * frame, 100), 15},
                                                           {cv::Point(200, 60 - 4 * frame), 18}};
     const TableImage image = Discs(discs);
-    const ParticlePlan plan = stage.Update(params, DiscContacts(frame, discs), scene, {}, &image);
+    const ParticlePlan plan =
+        StepWith(stage, params, DiscContacts(frame, discs), scene, {}, &image);
     ASSERT_EQ(CheckPlan(plan, alive), "");
     // last frame's particles all end, none is reused
     EXPECT_EQ(plan.deleted, static_cast<int>(alive.size()));
@@ -162,10 +171,10 @@ TEST(InstantProxies, ParticlesOverAnObjectLandOnItsTopEveryFrame) {
     const std::vector<std::pair<cv::Point, int>> discs = {{cv::Point(80 + 4 * frame, 100), 12}};
     const TableImage image = Discs(discs);
     const ContactSet set = DiscContacts(frame, discs);
-    for (const PlannedParticle& p : a.Update(instant, set, scene, {}, &image).particles) {
+    for (const PlannedParticle& p : StepWith(a, instant, set, scene, {}, &image).particles) {
       if (p.action != ParticleAction::kDeleted && p.baseHeight == 4.0) ++onTopInstant;
     }
-    for (const PlannedParticle& p : b.Update(persistent, set, scene, {}, nullptr).particles) {
+    for (const PlannedParticle& p : StepWith(b, persistent, set, scene, {}, nullptr).particles) {
       if (p.action != ParticleAction::kDeleted && p.baseHeight == 4.0) ++onTopPersistent;
     }
   }
@@ -182,7 +191,7 @@ TEST(InstantProxies, GroundModeStartsOutsideEveryFootprint) {
   ProxyStage stage;
   const std::vector<std::pair<cv::Point, int>> discs = {{cv::Point(150, 100), 20}};
   const TableImage image = Discs(discs);
-  const ParticlePlan plan = stage.Update(params, DiscContacts(0, discs), scene, {}, &image);
+  const ParticlePlan plan = StepWith(stage, params, DiscContacts(0, discs), scene, {}, &image);
   for (const PlannedParticle& p : plan.particles) {
     EXPECT_EQ(p.baseHeight, 0.0);
     EXPECT_FALSE(BoxScene::Inside(scene.boxes[0], p.start));

@@ -14,6 +14,14 @@
 namespace pg {
 namespace {
 
+// one frame with these parameters: they may change from frame to frame
+ParticlePlan StepWith(ProxyStage& stage, const ProxyParams& params, const ContactSet& contacts,
+                      const SceneQuery& scene, std::span<const ParticleFeedback> feedback,
+                      const TableImage* image) {
+  EXPECT_FALSE(stage.SetParams(params));
+  return stage.Step(contacts, scene, feedback, image);
+}
+
 using testing::Box;
 using testing::BoxScene;
 using testing::CapsuleOutline;
@@ -61,7 +69,7 @@ struct Harness {
       feedback.push_back(f);
       alive.push_back(id);
     }
-    ParticlePlan plan = stage.Update(params, set, scene, feedback, image);
+    ParticlePlan plan = StepWith(stage, params, set, scene, feedback, image);
     EXPECT_EQ(CheckPlan(plan, alive), "") << "frame " << set.frame;
     for (const PlannedParticle& p : plan.particles) {
       if (p.action == ParticleAction::kDeleted) {
@@ -329,8 +337,8 @@ TEST(ProxyStage, WithoutFeedbackCreatedParticlesStartAtTheNeighboursLastTarget) 
   BoxScene scene;
   scene.boxes = {{Vec2(19, 19), Vec2(21, 21), 3.0}};
   const Vec2 at(20, 20);
-  ParticlePlan last = stage.Update(
-      params,
+  ParticlePlan last = StepWith(
+      stage, params,
       MakeSet(0, {MakeContact(1, ContactState::kNew, Sensed(Moved(CircleOutline(0.5), {at})))}),
       scene, {}, nullptr);
   for (int frame = 1; frame <= 4; ++frame) {
@@ -338,8 +346,8 @@ TEST(ProxyStage, WithoutFeedbackCreatedParticlesStartAtTheNeighboursLastTarget) 
     for (const PlannedParticle& p : last.particles) before[p.id] = p;
     const Contour cur = Sensed(Moved(CircleOutline(0.5 + 0.25 * frame), {at}));
     const ParticlePlan plan =
-        stage.Update(params, MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur)}),
-                     scene, {}, nullptr);
+        StepWith(stage, params, MakeSet(frame, {MakeContact(1, ContactState::kContinuing, cur)}),
+                 scene, {}, nullptr);
     const int m = static_cast<int>(cur.cols());
     int created = 0;
     for (const PlannedParticle& p : plan.particles) {

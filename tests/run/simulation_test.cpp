@@ -162,8 +162,8 @@ TEST(Simulation, RetuneChangesThePhysicsInPlace) {
   EXPECT_TRUE(report.value().restart.empty());
   EXPECT_EQ(StateOf(sim), before);
   // the world runs with them from the next frame
-  EXPECT_EQ(sim.world().Params().substeps, 6);
-  EXPECT_EQ(sim.world().Params().particleFriction, 0.3);
+  EXPECT_EQ(sim.world().params().substeps, 6);
+  EXPECT_EQ(sim.world().params().particleFriction, 0.3);
   // the frame rate is the script's clock too: it restarts
   params.physics.frameRate = 30;
   report = sim.Retune(params);
@@ -262,7 +262,7 @@ TEST(Simulation, RetuneReportsParametersThatNeedARestartAndAppliesNothing) {
   EXPECT_EQ(report.value().live, std::vector<std::string>{"tracking.max_distance"});
   EXPECT_EQ(StateOf(sim), before);
   EXPECT_EQ(sim.params().physics.layers, level.params.physics.layers);
-  EXPECT_EQ(sim.world().Params().layers, level.params.physics.layers);
+  EXPECT_EQ(sim.world().params().layers, level.params.physics.layers);
   EXPECT_EQ(sim.params().tracking.maxDistance, level.params.tracking.maxDistance);
   EXPECT_EQ(sim.camera().params().width, level.params.camera.width);
 }

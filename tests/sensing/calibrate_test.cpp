@@ -252,7 +252,7 @@ TEST(Calibrate, SavedFileLoadsAndSensesContactsWhereTheyAre) {
   for (const Vec2& at : {Vec2(30.5, 23), Vec2(6, 6), Vec2(55, 40)}) {
     ContactShape finger;
     finger.pose.pos = at;
-    Result<ContourFrame> sensed = sensor.Process(camera.Render({&finger, 1}), 0, 0.0);
+    Result<ContourFrame> sensed = sensor.Step(camera.Render({&finger, 1}), 0, 0.0);
     ASSERT_TRUE(sensed.ok()) << sensed.error().Format();
     ASSERT_EQ(sensed.value().blobs.size(), 1u);
     // the calibration's 0.2 cm plus the sensing's own sub-pixel error

@@ -91,7 +91,7 @@ TEST_P(ContourAccuracy, WithinOnePixelOfTruth) {
   const Contour truth = camera.TrueOutlines(shapes)[0];
   // a few frames, so several noise draws are checked
   for (int frame = 0; frame < 3; ++frame) {
-    Result<ContourFrame> r = sensor.Process(camera.Render(shapes), frame, frame / 60.0);
+    Result<ContourFrame> r = sensor.Step(camera.Render(shapes), frame, frame / 60.0);
     ASSERT_TRUE(r) << r.error().Format();
     ASSERT_EQ(r.value().blobs.size(), 1u) << c.name;
     const Blob& blob = r.value().blobs[0];
@@ -142,7 +142,7 @@ TEST(Sensor, EmptyTableHasNoPhantoms) {
         ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
       }
       for (int i = 0; i < 20; ++i) {
-        Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render({}), i, i / 60.0);
+        Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render({}), i, i / 60.0);
         ASSERT_TRUE(r) << r.error().Format();
         EXPECT_TRUE(r.value().blobs.empty())
             << "strategy " << strategy << " mode " << static_cast<int>(mode) << " frame " << i;
@@ -158,7 +158,7 @@ TEST(Sensor, StrongNoiseAndGradientStillNoPhantoms) {
   p.gradient = 24.0;
   Rig rig(p);
   for (int i = 0; i < 10; ++i) {
-    Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render({}), i, 0.0);
+    Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render({}), i, 0.0);
     ASSERT_TRUE(r);
     EXPECT_TRUE(r.value().blobs.empty()) << "frame " << i;
   }
@@ -170,7 +170,7 @@ TEST(Sensor, HaloIsNotAContact) {
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   ContactShape hand = Make(ShapeKind::kHandFlat, {30.0, 20.0}, 0);
   const ContactShape shapes[] = {hand};
-  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(shapes), 0, 0.0);
   ASSERT_TRUE(r);
   ASSERT_EQ(r.value().blobs.size(), 1u);
   const double truthArea = SignedArea(ShapeOutline(hand));
@@ -187,7 +187,7 @@ TEST(Sensor, EstimatedBackgroundWithHandsOnTheTable) {
   ContactShape hand = Make(ShapeKind::kHandFlat, {30.0, 10.0}, 0);
   hand.scale = 0.8;
   shapes.push_back(hand);
-  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(shapes), 0, 0.0);
   ASSERT_TRUE(r);
   EXPECT_EQ(r.value().blobs.size(), shapes.size());
 }
@@ -196,7 +196,7 @@ TEST(Sensor, ContourConventions) {
   Rig rig;
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   const ContactShape shapes[] = {Make(ShapeKind::kHandFive, {30.0, 18.0}, 10)};
-  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 3, 0.05);
+  Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(shapes), 3, 0.05);
   ASSERT_TRUE(r);
   ASSERT_EQ(r.value().blobs.size(), 1u);
   const Blob& b = r.value().blobs[0];
@@ -225,7 +225,7 @@ TEST(Sensor, SmallContactsAreRemoved) {
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   // areas 0.28 cm^2 (removed) and 0.79 cm^2 (kept)
   const ContactShape shapes[] = {Circle({20.0, 20.0}, 0.3), Circle({40.0, 20.0}, 0.5)};
-  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(shapes), 0, 0.0);
   ASSERT_TRUE(r);
   ASSERT_EQ(r.value().blobs.size(), 1u);
   EXPECT_NEAR(r.value().blobs[0].centroid.x(), 40.0, 0.1);
@@ -239,7 +239,7 @@ TEST(Sensor, SetParamsChangesAConfiguredSensorAndKeepsItsBackground) {
   const cv::Mat background = rig.sensor.Background().clone();
   const ContactShape shapes[] = {Circle({20.0, 20.0}, 0.3), Circle({40.0, 20.0}, 0.5)};
   const cv::Mat frame = rig.camera.Render(shapes);
-  Result<ContourFrame> before = rig.sensor.Process(frame, 0, 0.0, true);
+  Result<ContourFrame> before = rig.sensor.Step(frame, 0, 0.0, true);
   ASSERT_TRUE(before);
   ASSERT_EQ(before.value().blobs.size(), 1u);
 
@@ -251,7 +251,7 @@ TEST(Sensor, SetParamsChangesAConfiguredSensorAndKeepsItsBackground) {
   sp.morphology = 0;
   ASSERT_FALSE(rig.sensor.SetParams(sp));
   EXPECT_EQ(rig.sensor.params().minArea, 0.1);
-  Result<ContourFrame> after = rig.sensor.Process(frame, 1, 0.0, true);
+  Result<ContourFrame> after = rig.sensor.Step(frame, 1, 0.0, true);
   ASSERT_TRUE(after);
   ASSERT_EQ(after.value().blobs.size(), 2u);
   const Blob& big = before.value().blobs[0];
@@ -297,7 +297,7 @@ TEST(Sensor, BlobsAreLargestFirstAndTouchingShapesMerge) {
   // two overlapping fingertips are one component; a larger one elsewhere comes first
   const ContactShape shapes[] = {Circle({10.0, 10.0}, 0.8), Circle({11.2, 10.0}, 0.8),
                                  Circle({40.0, 30.0}, 2.0)};
-  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(shapes), 0, 0.0);
   ASSERT_TRUE(r);
   ASSERT_EQ(r.value().blobs.size(), 2u);
   EXPECT_NEAR(r.value().blobs[0].centroid.x(), 40.0, 0.1);
@@ -318,7 +318,7 @@ TEST(Sensor, HolesAreIgnored) {
     bar.pose.angle = i * kPi / 2;
     bars.push_back(bar);
   }
-  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(bars), 0, 0.0);
+  Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(bars), 0, 0.0);
   ASSERT_TRUE(r);
   ASSERT_EQ(r.value().blobs.size(), 1u);
   // the outer square's area, not the frame's: 36 cm^2 (tolerance: a 0.1 cm band round 24 cm)
@@ -332,12 +332,12 @@ TEST(Sensor, BackgroundCapturedFromFirstFrames) {
   const ContactShape shapes[] = {Circle({30.0, 20.0}, 1.0)};
   // the first three frames (clear table) go into the background and report nothing
   for (int i = 0; i < 3; ++i) {
-    Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render({}), i, 0.0);
+    Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render({}), i, 0.0);
     ASSERT_TRUE(r);
     EXPECT_TRUE(r.value().blobs.empty());
   }
   EXPECT_TRUE(rig.sensor.HasBackground());
-  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 3, 0.0);
+  Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(shapes), 3, 0.0);
   ASSERT_TRUE(r);
   ASSERT_EQ(r.value().blobs.size(), 1u);
   EXPECT_NEAR(r.value().blobs[0].area, kPi, 0.1 * 2.0 * kPi);
@@ -350,7 +350,7 @@ TEST(Sensor, AutomaticThresholdFindsContacts) {
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   const ContactShape shapes[] = {Circle({20.0, 20.0}, 1.0),
                                  Make(ShapeKind::kHandFlat, {40, 20}, 0)};
-  Result<ContourFrame> r = rig.sensor.Process(rig.camera.Render(shapes), 0, 0.0);
+  Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(shapes), 0, 0.0);
   ASSERT_TRUE(r);
   EXPECT_EQ(r.value().blobs.size(), 2u);
   // Otsu splits contact (~150 above background) from the rest, far above the floor
@@ -363,10 +363,10 @@ TEST(Sensor, TableImageOnRequest) {
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   const ContactShape shapes[] = {Circle({20.0, 30.0}, 1.5)};
   const cv::Mat frame = rig.camera.Render(shapes);
-  Result<ContourFrame> without = rig.sensor.Process(frame, 0, 0.0);
+  Result<ContourFrame> without = rig.sensor.Step(frame, 0, 0.0);
   ASSERT_TRUE(without);
   EXPECT_TRUE(without.value().tableImage.image.empty());
-  Result<ContourFrame> with = rig.sensor.Process(frame, 1, 0.0, true);
+  Result<ContourFrame> with = rig.sensor.Step(frame, 1, 0.0, true);
   ASSERT_TRUE(with);
   const TableImage& t = with.value().tableImage;
   ASSERT_EQ(t.image.type(), CV_8UC1);
@@ -380,34 +380,31 @@ TEST(Sensor, TableImageOnRequest) {
 
 TEST(Sensor, BadFramesGiveErrorsNamingTheFrame) {
   Rig rig;
-  Result<ContourFrame> empty = rig.sensor.Process(cv::Mat(), 7, 0.0);
+  Result<ContourFrame> empty = rig.sensor.Step(cv::Mat(), 7, 0.0);
   ASSERT_FALSE(empty);
   EXPECT_EQ(empty.error().Format(), "frame 7: empty frame (expected 640x480 8-bit grey, CV_8UC1)");
 
-  Result<ContourFrame> small =
-      rig.sensor.Process(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), 8, 0.0);
+  Result<ContourFrame> small = rig.sensor.Step(cv::Mat(240, 320, CV_8UC1, cv::Scalar(0)), 8, 0.0);
   ASSERT_FALSE(small);
   EXPECT_EQ(small.error().Format(), "frame 8: frame is 320x240, expected 640x480");
 
-  Result<ContourFrame> colour =
-      rig.sensor.Process(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0)), 9, 0.0);
+  Result<ContourFrame> colour = rig.sensor.Step(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0)), 9, 0.0);
   ASSERT_FALSE(colour);
   EXPECT_THAT(colour.error().Format(),
               HasSubstr("frame 9: frame type is CV_8UC3, expected CV_8UC1"));
 
-  Result<ContourFrame> floats =
-      rig.sensor.Process(cv::Mat(480, 640, CV_32F, cv::Scalar(0)), 10, 0.0);
+  Result<ContourFrame> floats = rig.sensor.Step(cv::Mat(480, 640, CV_32F, cv::Scalar(0)), 10, 0.0);
   ASSERT_FALSE(floats);
   EXPECT_THAT(floats.error().Format(), HasSubstr("frame 10: frame type is CV_32FC1"));
 
   // the sensor keeps working after bad frames
-  Result<ContourFrame> good = rig.sensor.Process(rig.camera.Render({}), 11, 0.0);
+  Result<ContourFrame> good = rig.sensor.Step(rig.camera.Render({}), 11, 0.0);
   EXPECT_TRUE(good);
 }
 
 TEST(Sensor, UnconfiguredSensorSaysSo) {
   Sensor sensor;
-  Result<ContourFrame> r = sensor.Process(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), 0, 0.0);
+  Result<ContourFrame> r = sensor.Step(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), 0, 0.0);
   ASSERT_FALSE(r);
   EXPECT_THAT(r.error().Format(), HasSubstr("not configured"));
 }
@@ -453,8 +450,8 @@ TEST(Sensor, CalibrationFileRoundTripGivesTheSameContours) {
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   const ContactShape shapes[] = {Make(ShapeKind::kHandCupped, {30, 20}, 40)};
   const cv::Mat frame = rig.camera.Render(shapes);
-  Result<ContourFrame> a = rig.sensor.Process(frame, 0, 0.0);
-  Result<ContourFrame> b = fromFile.Process(frame, 0, 0.0);
+  Result<ContourFrame> a = rig.sensor.Step(frame, 0, 0.0);
+  Result<ContourFrame> b = fromFile.Step(frame, 0, 0.0);
   ASSERT_TRUE(a);
   ASSERT_TRUE(b);
   ASSERT_EQ(a.value().blobs.size(), 1u);

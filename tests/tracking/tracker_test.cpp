@@ -40,10 +40,29 @@ const Contact* Find(const ContactSet& set, ContactId id) {
   return nullptr;
 }
 
+// one frame with these parameters: they may change from frame to frame
+ContactSet StepWith(Tracker& t, const TrackingParams& p, const ContourFrame& frame) {
+  EXPECT_FALSE(t.SetParams(p));
+  return t.Step(frame);
+}
+
+TEST(Tracker, KeepsItsParametersAndRejectsOutOfRangeOnes) {
+  TrackingParams p;
+  p.maxDistance = 2.5;
+  Tracker t(p);
+  EXPECT_EQ(t.params().maxDistance, 2.5);
+  TrackingParams bad = p;
+  bad.maxDistance = -1;
+  const Status s = t.SetParams(bad);
+  ASSERT_TRUE(s);
+  EXPECT_NE(s->Format().find("tracking.max_distance"), std::string::npos) << s->Format();
+  EXPECT_EQ(t.params().maxDistance, 2.5) << "a rejected change keeps the parameters";
+}
+
 TEST(Tracker, NewContinuingLifted) {
   Tracker t;
   TrackingParams p;
-  ContactSet s0 = t.Update(p, Frame(0, {BlobAt(10, 10), BlobAt(30, 10)}));
+  ContactSet s0 = StepWith(t, p, Frame(0, {BlobAt(10, 10), BlobAt(30, 10)}));
   ASSERT_EQ(s0.contacts.size(), 2u);
   EXPECT_EQ(s0.frame, 0);
   EXPECT_EQ(s0.contacts[0].state, ContactState::kNew);
@@ -51,7 +70,7 @@ TEST(Tracker, NewContinuingLifted) {
   EXPECT_EQ(s0.contacts[1].id, 2);
 
   // the first moves 1 cm, the second is lifted, a third appears
-  ContactSet s1 = t.Update(p, Frame(1, {BlobAt(11, 10), BlobAt(50, 40)}));
+  ContactSet s1 = StepWith(t, p, Frame(1, {BlobAt(11, 10), BlobAt(50, 40)}));
   ASSERT_EQ(s1.contacts.size(), 3u);
   EXPECT_EQ(s1.contacts[0].id, 1);
   EXPECT_EQ(s1.contacts[0].state, ContactState::kContinuing);
@@ -64,7 +83,7 @@ TEST(Tracker, NewContinuingLifted) {
   EXPECT_DOUBLE_EQ(s1.contacts[2].blob.centroid.x(), 30.0);
 
   // a lifted contact is reported once only
-  ContactSet s2 = t.Update(p, Frame(2, {BlobAt(11, 10), BlobAt(50, 40)}));
+  ContactSet s2 = StepWith(t, p, Frame(2, {BlobAt(11, 10), BlobAt(50, 40)}));
   ASSERT_EQ(s2.contacts.size(), 2u);
   EXPECT_EQ(Find(s2, 2), nullptr);
 }
@@ -73,15 +92,15 @@ TEST(Tracker, FartherThanMaxDistanceIsANewContact) {
   Tracker t;
   TrackingParams p;
   p.maxDistance = 2.0;
-  t.Update(p, Frame(0, {BlobAt(10, 10)}));
-  ContactSet s = t.Update(p, Frame(1, {BlobAt(12.5, 10)}));
+  StepWith(t, p, Frame(0, {BlobAt(10, 10)}));
+  ContactSet s = StepWith(t, p, Frame(1, {BlobAt(12.5, 10)}));
   ASSERT_EQ(s.contacts.size(), 2u);
   EXPECT_EQ(s.contacts[0].state, ContactState::kNew);
   EXPECT_EQ(s.contacts[0].id, 2);
   EXPECT_EQ(s.contacts[1].state, ContactState::kLifted);
   EXPECT_EQ(s.contacts[1].id, 1);
   // exactly at the threshold still matches
-  ContactSet at = t.Update(p, Frame(2, {BlobAt(14.5, 10)}));
+  ContactSet at = StepWith(t, p, Frame(2, {BlobAt(14.5, 10)}));
   EXPECT_EQ(at.contacts[0].id, 2);
   EXPECT_EQ(at.contacts[0].state, ContactState::kContinuing);
 }
@@ -93,8 +112,8 @@ TEST(Tracker, GloballyNearestPairsFirst) {
   Tracker t;
   TrackingParams p;
   p.maxDistance = 2.5;
-  t.Update(p, Frame(0, {BlobAt(0, 0), BlobAt(3, 0)}));
-  ContactSet s = t.Update(p, Frame(1, {BlobAt(2, 0), BlobAt(3.5, 0)}));
+  StepWith(t, p, Frame(0, {BlobAt(0, 0), BlobAt(3, 0)}));
+  ContactSet s = StepWith(t, p, Frame(1, {BlobAt(2, 0), BlobAt(3.5, 0)}));
   ASSERT_EQ(s.contacts.size(), 2u);
   EXPECT_EQ(s.contacts[0].id, 1);  // the blob at x=2 continues A
   EXPECT_EQ(s.contacts[1].id, 2);  // the blob at x=3.5 continues B
@@ -106,8 +125,8 @@ TEST(Tracker, MergeKeepsTheNearestIdAndLiftsTheOther) {
   // two fingertips (areas 2 and 1) merge into one blob whose centroid is area-weighted
   Tracker t;
   TrackingParams p;
-  t.Update(p, Frame(0, {BlobAt(10, 10, 2.0), BlobAt(12, 10, 1.0)}));
-  ContactSet s = t.Update(p, Frame(1, {BlobAt(10.7, 10, 3.0)}));
+  StepWith(t, p, Frame(0, {BlobAt(10, 10, 2.0), BlobAt(12, 10, 1.0)}));
+  ContactSet s = StepWith(t, p, Frame(1, {BlobAt(10.7, 10, 3.0)}));
   ASSERT_EQ(s.contacts.size(), 2u);
   EXPECT_EQ(s.contacts[0].id, 1);  // the larger finger's centroid is nearer
   EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
@@ -118,8 +137,8 @@ TEST(Tracker, MergeKeepsTheNearestIdAndLiftsTheOther) {
 TEST(Tracker, SplitKeepsTheNearestPieceAndTheOtherIsNew) {
   Tracker t;
   TrackingParams p;
-  t.Update(p, Frame(0, {BlobAt(10.7, 10, 3.0)}));
-  ContactSet s = t.Update(p, Frame(1, {BlobAt(10, 10, 2.0), BlobAt(12, 10, 1.0)}));
+  StepWith(t, p, Frame(0, {BlobAt(10.7, 10, 3.0)}));
+  ContactSet s = StepWith(t, p, Frame(1, {BlobAt(10, 10, 2.0), BlobAt(12, 10, 1.0)}));
   ASSERT_EQ(s.contacts.size(), 2u);
   EXPECT_EQ(s.contacts[0].id, 1);
   EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
@@ -133,8 +152,8 @@ TEST(Tracker, IdsAreNeverReused) {
   std::set<ContactId> seen;
   for (int i = 0; i < 20; ++i) {
     // a contact appears every other frame and vanishes the next
-    ContactSet s =
-        t.Update(p, Frame(i, i % 2 == 0 ? std::vector<Blob>{BlobAt(10, 10)} : std::vector<Blob>{}));
+    ContactSet s = StepWith(
+        t, p, Frame(i, i % 2 == 0 ? std::vector<Blob>{BlobAt(10, 10)} : std::vector<Blob>{}));
     for (const Contact& c : s.contacts) {
       if (c.state == ContactState::kNew) {
         EXPECT_TRUE(seen.insert(c.id).second) << "id " << c.id << " reused";
@@ -143,7 +162,7 @@ TEST(Tracker, IdsAreNeverReused) {
   }
   EXPECT_EQ(seen.size(), 10u);
   t.Reset();
-  ContactSet after = t.Update(p, Frame(20, {BlobAt(10, 10)}));
+  ContactSet after = StepWith(t, p, Frame(20, {BlobAt(10, 10)}));
   EXPECT_EQ(after.contacts[0].state, ContactState::kNew);
   EXPECT_EQ(after.contacts[0].id, 11) << "Reset forgets contacts, not the id counter";
 }
@@ -162,10 +181,10 @@ struct Pipeline {
     return p;
   }
   ContactSet Step(std::span<const ContactShape> shapes) {
-    Result<ContourFrame> f = sensor.Process(camera.Render(shapes), frame, frame / 60.0);
+    Result<ContourFrame> f = sensor.Step(camera.Render(shapes), frame, frame / 60.0);
     EXPECT_TRUE(f) << f.error().Format();
     ++frame;
-    return tracker.Update(TrackingParams{}, f.value());
+    return tracker.Step(f.value());
   }
   TableParams table;
   SyntheticCamera camera;

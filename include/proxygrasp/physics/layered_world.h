@@ -45,14 +45,18 @@ class LayeredWorld : public SceneQuery {
   /// "particle_radius", "stack_size" and "capsule" (the particle bodies).
   std::vector<std::string> FixedKeysChanged(const PhysicsParams& physics) const;
 
-  /// Applies one frame's particle plan: creates stacks (at start, base layer from baseHeight),
+  /// One frame: ApplyPlan(plan), then StepFrame().
+  void Step(const ParticlePlan& plan);
+
+  /// The first half of Step, for tests that look between the halves. Applies one frame's
+  /// particle plan: creates stacks (at start, base layer from baseHeight),
   /// deletes stacks, sets the targets the next StepFrame drives particles to. Entries naming
   /// unknown particles are skipped and counted (PlanErrors).
   void ApplyPlan(const ParticlePlan& plan);
 
-  /// Advances one camera frame: substeps of dt = 1 / (frameRate * substeps), each with kinematic
-  /// control, the layer worlds' steps (in parallel when threads > 1), coupling, top and table
-  /// friction and particle support; then the frame's diagnostics.
+  /// The second half of Step. Advances one camera frame: substeps of dt = 1 / (frameRate *
+  /// substeps), each with kinematic control, the layer worlds' steps (in parallel when threads >
+  /// 1), coupling, top and table friction and particle support; then the frame's diagnostics.
   void StepFrame();
 
   /// An external force, dyn, at a table point, cm, acting through the object's slice in `layer`
@@ -87,7 +91,7 @@ class LayeredWorld : public SceneQuery {
   /// non-finite positions, and pushes on unknown objects or with non-finite values.
   int PlanErrors() const;
   /// The parameters in use.
-  const PhysicsParams& Params() const;
+  const PhysicsParams& params() const;
 
   /// Hash (FNV-1a) of the exact simulation state: object poses and velocities, every particle
   /// body's position and velocity, bit for bit. Equal hashes mean identical runs.

@@ -3,6 +3,7 @@
 // has a predecessor; in instant mode (UIST 2008) every particle lives one frame.
 #pragma once
 
+#include "proxygrasp/core/error.h"
 #include "proxygrasp/core/ids.h"
 #include "proxygrasp/proxies/instant_proxies.h"
 #include "proxygrasp/proxies/types.h"
@@ -31,16 +32,23 @@ struct ProxyStageStats {
 /// The proxies stage and its state across frames.
 class ProxyStage {
  public:
+  /// A stage with these parameters.
+  explicit ProxyStage(const ProxyParams& params = ProxyParams()) : m_params(params) {}
+
+  /// Changes the parameters between frames (every proxies parameter applies live, the mode
+  /// included). A value out of its described range is an Error naming it, and nothing changes.
+  Status SetParams(const ProxyParams& params);
+  const ProxyParams& params() const { return m_params; }
+
   /// One frame: the plan for every particle. feedback holds where the physics put the particles
   /// of the last plan; image is the table image (needed in instant mode, may be null otherwise).
-  ParticlePlan Update(const ProxyParams& params, const ContactSet& contacts,
-                      const SceneQuery& scene, std::span<const ParticleFeedback> feedback,
-                      const TableImage* image);
+  ParticlePlan Step(const ContactSet& contacts, const SceneQuery& scene,
+                    std::span<const ParticleFeedback> feedback, const TableImage* image);
 
   /// Forgets every contact and particle (ids keep counting up: they are never reused).
   void Reset();
 
-  /// Number of particles alive after the last Update.
+  /// Number of particles alive after the last Step.
   int LiveCount() const;
   /// Unusual input seen since the last Reset.
   const ProxyStageStats& Stats() const { return m_stats; }
@@ -62,6 +70,7 @@ class ProxyStage {
                 Track& track, ParticlePlan& plan);
   void DeleteTrack(ContactId id, const Track& track, ParticlePlan& plan);
 
+  ProxyParams m_params;
   std::map<ContactId, Track> m_tracks;  // ordered: plans come out in the same order every run
   std::unordered_map<ParticleId, ParticleFeedback> m_feedback;  // this frame's feedback by id
   InstantProxies m_instant;

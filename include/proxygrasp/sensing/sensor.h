@@ -16,7 +16,7 @@
 namespace pg {
 
 /// Turns camera frames into contour frames. Holds the calibration, the background and scratch
-/// images, so Process allocates little per frame.
+/// images, so Step allocates little per frame.
 class Sensor {
  public:
   /// Reads params.calibration (or uses LinearCalibration when it is ""), checks that it matches
@@ -36,11 +36,11 @@ class Sensor {
   /// the background is captured).
   std::vector<std::string> FixedKeysChanged(const SensingParams& params) const;
 
-  /// Processes one CV_8UC1 frame of the configured size. A wrong size or type, or an empty frame,
-  /// is an Error naming the frame index and what was expected. While the background is being
+  /// One frame: processes a CV_8UC1 frame of the configured size. A wrong size or type, or an empty
+  /// frame, is an Error naming the frame index and what was expected. While the background is being
   /// captured (SensingParams::backgroundFrames) the frame has no blobs.
-  Result<ContourFrame> Process(const cv::Mat& frame, int64_t index, double time,
-                               bool wantTableImage = false);
+  Result<ContourFrame> Step(const cv::Mat& frame, int64_t index, double time,
+                            bool wantTableImage = false);
 
   /// Uses this clear-table frame (CV_8UC1, configured size) as the background from now on.
   Status SetBackground(const cv::Mat& background);

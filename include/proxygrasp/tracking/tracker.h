@@ -3,6 +3,7 @@
 // docs/sensing.md ("Tracking").
 #pragma once
 
+#include "proxygrasp/core/error.h"
 #include "proxygrasp/core/ids.h"
 #include "proxygrasp/sensing/types.h"
 #include "proxygrasp/tracking/types.h"
@@ -14,17 +15,25 @@ namespace pg {
 /// Frame-to-frame contact association with stable ids.
 class Tracker {
  public:
-  /// Matches frame's blobs to the last frame's contacts: every pair of (last contact, blob) whose
-  /// centroids are within params.maxDistance cm is a candidate; candidates are taken globally
-  /// nearest first, each contact and blob at most once. Matched blobs continue their contact's id;
-  /// unmatched blobs are new (fresh id); unmatched last contacts are lifted and listed once, with
-  /// their last blob, after the current contacts.
-  ContactSet Update(const TrackingParams& params, const ContourFrame& frame);
+  /// A tracker with these parameters.
+  explicit Tracker(const TrackingParams& params = TrackingParams()) : m_params(params) {}
+
+  /// Changes the parameters between frames (every tracking parameter applies live). A value out
+  /// of its described range is an Error naming it, and nothing changes.
+  Status SetParams(const TrackingParams& params);
+  const TrackingParams& params() const { return m_params; }
+
+  /// One frame. Matches frame's blobs to the last frame's contacts: every pair of (last contact,
+  /// blob) whose centroids are within params.maxDistance cm is a candidate; candidates are taken
+  /// globally nearest first, each contact and blob at most once. Matched blobs continue their
+  /// contact's id; unmatched blobs are new (fresh id); unmatched last contacts are lifted and
+  /// listed once, with their last blob, after the current contacts.
+  ContactSet Step(const ContourFrame& frame);
 
   /// Forgets all contacts (the next frame's blobs are all new). Ids keep counting up.
   void Reset();
 
-  /// The contacts currently on the table (after the last Update), lifted ones excluded.
+  /// The contacts currently on the table (after the last Step), lifted ones excluded.
   const std::vector<Contact>& current() const { return m_current; }
 
  private:
@@ -34,6 +43,7 @@ class Tracker {
     int blob;
   };
 
+  TrackingParams m_params;
   std::vector<Contact> m_current;
   IdCounter m_ids;
   std::vector<Candidate> m_candidates;  // scratch
