@@ -74,35 +74,35 @@ class PanelVisitor : public ParamVisitor {
   bool committed = false;  // an edit finished: apply the edited parameters
 
   void Real(const char* key, double& value, double min, double max, const char* unit,
-            const char* doc) override {
+            FieldDoc doc) override {
     const double speed = std::max(std::abs(value) * 0.01, 1e-3);
     ImGui::DragScalar(Label(key, unit).c_str(), ImGuiDataType_Double, &value,
                       static_cast<float>(speed), &min, &max, "%.4g", ImGuiSliderFlags_AlwaysClamp);
     After(doc);
   }
   void Integer(const char* key, int& value, int min, int max, const char* unit,
-               const char* doc) override {
+               FieldDoc doc) override {
     ImGui::DragInt(Label(key, unit).c_str(), &value, 0.2f, min, max, "%d",
                    ImGuiSliderFlags_AlwaysClamp);
     After(doc);
   }
-  void Boolean(const char* key, bool& value, const char* doc) override {
+  void Boolean(const char* key, bool& value, FieldDoc doc) override {
     if (ImGui::Checkbox(key, &value)) committed = true;
     Tooltip(doc);
   }
   void Choice(const char* key, int& value, std::span<const char* const> names,
-              const char* doc) override {
+              FieldDoc doc) override {
     if (ImGui::Combo(key, &value, names.data(), static_cast<int>(names.size()))) committed = true;
     Tooltip(doc);
   }
-  void Text(const char* key, std::string& value, const char* doc) override {
+  void Text(const char* key, std::string& value, FieldDoc doc) override {
     std::array<char, 512> buffer{};
     std::strncpy(buffer.data(), value.c_str(), buffer.size() - 1);
     if (ImGui::InputText(key, buffer.data(), buffer.size())) value = buffer.data();
     After(doc);
   }
   void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
-              const char* doc) override {
+              FieldDoc doc) override {
     ImGui::DragScalarN(Label(key, unit).c_str(), ImGuiDataType_Double, value.data(), 2, 0.05f, &min,
                        &max, "%.3g", ImGuiSliderFlags_AlwaysClamp);
     After(doc);
@@ -113,10 +113,16 @@ class PanelVisitor : public ParamVisitor {
     const std::string u = unit;
     return (u.empty() || u == "1") ? std::string(key) : std::string(key) + " (" + u + ")";
   }
-  void Tooltip(const char* doc) {
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", doc);
+  // the doc, and for a key a running simulation cannot take, that a change restarts the run
+  void Tooltip(FieldDoc doc) {
+    if (!ImGui::IsItemHovered()) return;
+    if (doc.apply == Apply::kRestart) {
+      ImGui::SetTooltip("%s\n(a change restarts the run)", doc.text);
+    } else {
+      ImGui::SetTooltip("%s", doc.text);
+    }
   }
-  void After(const char* doc) {
+  void After(FieldDoc doc) {
     if (ImGui::IsItemDeactivatedAfterEdit()) committed = true;
     Tooltip(doc);
   }
@@ -754,10 +760,15 @@ void App::Impl::DrawPanel() {
   }
 
   ImGui::Separator();
-  ImGui::TextWrapped(
-      "Level parameters: a finished edit applies at once to the running level. The table, the "
-      "frame rate, the layers and particle shapes, the camera's size, lens and seed, and the "
-      "calibration file restart the run.");
+  // which keys restart the run comes from the parameters' descriptions
+  static const std::string restartText = [] {
+    std::string text =
+        "Level parameters: a finished edit applies at once to the running level; these restart "
+        "the run:";
+    for (const std::string& key : RestartKeys()) text += " " + key;
+    return text;
+  }();
+  ImGui::TextWrapped("%s", restartText.c_str());
   if (!tuneStatus.empty()) ImGui::TextWrapped("%s", tuneStatus.c_str());
   if (ImGui::Button("Copy as TOML")) pending.copyToml = true;
   ImGui::SameLine();

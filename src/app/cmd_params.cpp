@@ -31,6 +31,27 @@ std::string RangeText(const FieldInfo& f) {
   return "";
 }
 
+const char* ApplyText(Apply apply) {
+  return apply == Apply::kRestart ? "restarts the run" : "applies live";
+}
+
+// for docs/app.md: per section, the keys a running simulation takes and those that restart it
+int RunLiveness() {
+  LevelParams defaults;
+  std::cout << "| section | applies live (the run keeps its state) | restarts the run |\n"
+            << "|---|---|---|\n";
+  for (const ParamSection& section : Sections(defaults)) {
+    std::string live, restart;
+    for (const FieldInfo& f : ListFields(section)) {
+      std::string& list = f.apply == Apply::kRestart ? restart : live;
+      list += (list.empty() ? "`" : ", `") + f.key + "`";
+    }
+    std::cout << "| `[" << section.name << "]` | " << (live.empty() ? "none" : live) << " | "
+              << (restart.empty() ? "none" : restart) << " |\n";
+  }
+  return kExitOk;
+}
+
 int RunParams(const std::string& only, bool markdown) {
   LevelParams defaults;
   bool found = only.empty();
@@ -39,19 +60,21 @@ int RunParams(const std::string& only, bool markdown) {
     found = true;
     if (markdown) {
       std::cout << "### [" << section.name << "]\n\n"
-                << "| key | default | unit | range | meaning |\n"
-                << "|---|---|---|---|---|\n";
+                << "| key | default | unit | range | a change | meaning |\n"
+                << "|---|---|---|---|---|---|\n";
     } else {
       std::cout << "[" << section.name << "]\n";
     }
     for (const FieldInfo& f : ListFields(section)) {
       if (markdown) {
         std::cout << "| `" << f.key << "` | `" << f.value << "` | " << f.unit << " | "
-                  << RangeText(f) << " | " << f.doc << " |\n";
+                  << RangeText(f) << " | " << ApplyText(f.apply) << " | " << f.doc << " |\n";
       } else {
         std::cout << f.key << " = " << f.value << "    # " << f.doc;
         if (!f.unit.empty() && f.unit != "1") std::cout << ", " << f.unit;
-        std::cout << " (" << RangeText(f) << ")\n";
+        std::cout << " (" << RangeText(f) << ")";
+        if (f.apply == Apply::kRestart) std::cout << " [restart]";
+        std::cout << "\n";
       }
     }
     std::cout << "\n";
@@ -71,9 +94,13 @@ void AddParamsCommand(CLI::App& app, int& exitCode) {
   // CLI11 binds options by reference, so they live as long as the program
   static std::string section;
   static bool markdown = false;
+  static bool liveness = false;
   cmd->add_option("--section", section, "Only this section (table, physics, proxies, ...)");
   cmd->add_flag("--markdown", markdown, "Print Markdown tables, as in docs/levels.md");
-  cmd->callback([&exitCode] { exitCode = RunParams(section, markdown); });
+  cmd->add_flag("--liveness", liveness,
+                "Print which parameters apply live and which restart the run, as in docs/app.md");
+  cmd->callback(
+      [&exitCode] { exitCode = liveness ? RunLiveness() : RunParams(section, markdown); });
 }
 
 }  // namespace pg

@@ -11,7 +11,7 @@
 namespace pg {
 
 void ParamVisitor::Angle(const char* key, double& radians, double minDeg, double maxDeg,
-                         const char* unit, const char* doc) {
+                         const char* unit, FieldDoc doc) {
   // visit in degrees; write back only a changed value so an untouched angle keeps every bit
   const double before = RadToDeg(radians);
   double degrees = before;
@@ -19,10 +19,9 @@ void ParamVisitor::Angle(const char* key, double& radians, double minDeg, double
   if (degrees != before) radians = DegToRad(degrees);
 }
 
-void ParamVisitor::Vector(const char*, Vec2&, double, double, const char*, const char*) {}
+void ParamVisitor::Vector(const char*, Vec2&, double, double, const char*, FieldDoc) {}
 
-void ParamVisitor::Points(const char*, std::vector<Vec2>&, double, double, const char*,
-                          const char*) {}
+void ParamVisitor::Points(const char*, std::vector<Vec2>&, double, double, const char*, FieldDoc) {}
 
 namespace {
 
@@ -51,44 +50,45 @@ class Lister final : public ParamVisitor {
   std::vector<FieldInfo> fields;
 
   void Real(const char* key, double& value, double min, double max, const char* unit,
-            const char* doc) override {
+            FieldDoc doc) override {
     Add(key, FieldInfo::Type::kReal, min, max, unit, doc, FormatDouble(value));
   }
   void Integer(const char* key, int& value, int min, int max, const char* unit,
-               const char* doc) override {
+               FieldDoc doc) override {
     Add(key, FieldInfo::Type::kInteger, min, max, unit, doc, std::to_string(value));
   }
-  void Boolean(const char* key, bool& value, const char* doc) override {
+  void Boolean(const char* key, bool& value, FieldDoc doc) override {
     Add(key, FieldInfo::Type::kBoolean, 0, 1, "", doc, value ? "true" : "false");
   }
   void Choice(const char* key, int& value, std::span<const char* const> names,
-              const char* doc) override {
+              FieldDoc doc) override {
     Add(key, FieldInfo::Type::kChoice, 0, static_cast<double>(names.size()) - 1, "", doc,
         Quote(names[static_cast<size_t>(value)]));
     for (const char* n : names) fields.back().choices.emplace_back(n);
   }
-  void Text(const char* key, std::string& value, const char* doc) override {
+  void Text(const char* key, std::string& value, FieldDoc doc) override {
     Add(key, FieldInfo::Type::kText, 0, 0, "", doc, Quote(value));
   }
   void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
-              const char* doc) override {
+              FieldDoc doc) override {
     Add(key, FieldInfo::Type::kVector, min, max, unit, doc, FormatVec(value));
   }
   void Points(const char* key, std::vector<Vec2>& value, double min, double max, const char* unit,
-              const char* doc) override {
+              FieldDoc doc) override {
     Add(key, FieldInfo::Type::kPoints, min, max, unit, doc, FormatPoints(value));
   }
 
  private:
   void Add(const char* key, FieldInfo::Type type, double min, double max, const char* unit,
-           const char* doc, std::string value) {
+           FieldDoc doc, std::string value) {
     FieldInfo f;
     f.key = key;
     f.type = type;
     f.min = min;
     f.max = max;
     f.unit = unit;
-    f.doc = doc;
+    f.doc = doc.text;
+    f.apply = doc.apply;
     f.value = std::move(value);
     fields.push_back(std::move(f));
   }
@@ -161,7 +161,7 @@ class Setter final : public ParamVisitor {
   std::optional<std::string> problem;
 
   void Real(const char* key, double& value, double min, double max, const char* unit,
-            const char*) override {
+            FieldDoc) override {
     if (!Match(key)) return;
     const auto v = ParseReal(m_text);
     if (!v) {
@@ -172,7 +172,7 @@ class Setter final : public ParamVisitor {
       value = *v;
     }
   }
-  void Integer(const char* key, int& value, int min, int max, const char*, const char*) override {
+  void Integer(const char* key, int& value, int min, int max, const char*, FieldDoc) override {
     if (!Match(key)) return;
     int v = 0;
     const char* end = m_text.data() + m_text.size();
@@ -185,7 +185,7 @@ class Setter final : public ParamVisitor {
       value = v;
     }
   }
-  void Boolean(const char* key, bool& value, const char*) override {
+  void Boolean(const char* key, bool& value, FieldDoc) override {
     if (!Match(key)) return;
     if (m_text == "true") {
       value = true;
@@ -195,8 +195,7 @@ class Setter final : public ParamVisitor {
       problem = "expected true or false, got '" + m_text + "'";
     }
   }
-  void Choice(const char* key, int& value, std::span<const char* const> names,
-              const char*) override {
+  void Choice(const char* key, int& value, std::span<const char* const> names, FieldDoc) override {
     if (!Match(key)) return;
     const std::string name = Unquote(m_text);
     std::string allowed;
@@ -209,12 +208,12 @@ class Setter final : public ParamVisitor {
     }
     problem = "'" + name + "' is not one of: " + allowed;
   }
-  void Text(const char* key, std::string& value, const char*) override {
+  void Text(const char* key, std::string& value, FieldDoc) override {
     if (!Match(key)) return;
     value = Unquote(m_text);
   }
   void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
-              const char*) override {
+              FieldDoc) override {
     if (!Match(key)) return;
     const auto v = ParseVec(m_text);
     if (!v) {
@@ -226,7 +225,7 @@ class Setter final : public ParamVisitor {
     }
   }
   void Points(const char* key, std::vector<Vec2>& value, double min, double max, const char* unit,
-              const char*) override {
+              FieldDoc) override {
     if (!Match(key)) return;
     const auto items = SplitArray(m_text);
     std::vector<Vec2> points;
@@ -264,39 +263,37 @@ class RangeChecker final : public ParamVisitor {
   std::optional<std::string> problem;  ///< "key must be in ..."
 
   void Real(const char* key, double& value, double min, double max, const char* unit,
-            const char*) override {
+            FieldDoc) override {
     // written so that NaN fails too
     if (!(value >= min && value <= max)) {
       Fail(key, "must be in " + RangeText(min, max) + UnitSuffix(unit) + " (got " +
                     FormatDouble(value) + ")");
     }
   }
-  void Integer(const char* key, int& value, int min, int max, const char* unit,
-               const char*) override {
+  void Integer(const char* key, int& value, int min, int max, const char* unit, FieldDoc) override {
     if (value < min || value > max) {
       Fail(key, "must be in " + RangeText(min, max) + UnitSuffix(unit) + " (got " +
                     std::to_string(value) + ")");
     }
   }
-  void Boolean(const char*, bool&, const char*) override {}
-  void Choice(const char* key, int& value, std::span<const char* const> names,
-              const char*) override {
+  void Boolean(const char*, bool&, FieldDoc) override {}
+  void Choice(const char* key, int& value, std::span<const char* const> names, FieldDoc) override {
     if (value < 0 || value >= static_cast<int>(names.size())) {
       std::string allowed;
       for (size_t i = 0; i < names.size(); ++i) allowed += (i ? ", " : "") + std::string(names[i]);
       Fail(key, "must be one of " + allowed + " (got index " + std::to_string(value) + ")");
     }
   }
-  void Text(const char*, std::string&, const char*) override {}
+  void Text(const char*, std::string&, FieldDoc) override {}
   void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
-              const char*) override {
+              FieldDoc) override {
     if (!InRange(value, min, max)) {
       Fail(key, "must have each coordinate in " + RangeText(min, max) + UnitSuffix(unit) +
                     " (got " + FormatVec(value) + ")");
     }
   }
   void Points(const char* key, std::vector<Vec2>& value, double min, double max, const char* unit,
-              const char*) override {
+              FieldDoc) override {
     for (const Vec2& p : value) {
       if (!InRange(p, min, max)) {
         Fail(key, "must have each coordinate in " + RangeText(min, max) + UnitSuffix(unit) +
@@ -325,15 +322,31 @@ Status CheckFields(const ParamSection& section) {
   return std::nullopt;
 }
 
-std::vector<std::string> ChangedKeys(const ParamSection& a, const ParamSection& b) {
+namespace {
+
+// the keys whose values differ between two descriptions of one struct, of those fields that
+// `counts` accepts
+template <typename Pred>
+std::vector<std::string> ChangedKeysWhere(const ParamSection& a, const ParamSection& b,
+                                          Pred counts) {
   const std::vector<FieldInfo> before = ListFields(a);
   const std::vector<FieldInfo> after = ListFields(b);
   assert(before.size() == after.size() && "ChangedKeys compares two copies of one struct");
   std::vector<std::string> keys;
   for (size_t i = 0; i < before.size() && i < after.size(); ++i) {
-    if (before[i].value != after[i].value) keys.push_back(before[i].key);
+    if (before[i].value != after[i].value && counts(before[i])) keys.push_back(before[i].key);
   }
   return keys;
+}
+
+}  // namespace
+
+std::vector<std::string> ChangedKeys(const ParamSection& a, const ParamSection& b) {
+  return ChangedKeysWhere(a, b, [](const FieldInfo&) { return true; });
+}
+
+std::vector<std::string> RestartKeysChanged(const ParamSection& a, const ParamSection& b) {
+  return ChangedKeysWhere(a, b, [](const FieldInfo& f) { return f.apply == Apply::kRestart; });
 }
 
 std::vector<FieldInfo> ListFields(const ParamSection& section) {

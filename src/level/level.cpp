@@ -169,7 +169,7 @@ class TableReader final : public ParamVisitor {
   Errors errors;
 
   void Real(const char* key, double& value, double min, double max, const char* unit,
-            const char*) override {
+            FieldDoc) override {
     const toml::node* n = Find(key);
     if (!n) return;
     const auto v = AsNumber(*n);
@@ -182,8 +182,7 @@ class TableReader final : public ParamVisitor {
     }
     value = *v;
   }
-  void Integer(const char* key, int& value, int min, int max, const char* unit,
-               const char*) override {
+  void Integer(const char* key, int& value, int min, int max, const char* unit, FieldDoc) override {
     const toml::node* n = Find(key);
     if (!n) return;
     const auto* i = n->as_integer();
@@ -195,15 +194,14 @@ class TableReader final : public ParamVisitor {
     }
     value = static_cast<int>(i->get());
   }
-  void Boolean(const char* key, bool& value, const char*) override {
+  void Boolean(const char* key, bool& value, FieldDoc) override {
     const toml::node* n = Find(key);
     if (!n) return;
     const auto* b = n->as_boolean();
     if (!b) return Fail(key, *n, "must be true or false, got " + TomlTypeName(*n));
     value = b->get();
   }
-  void Choice(const char* key, int& value, std::span<const char* const> names,
-              const char*) override {
+  void Choice(const char* key, int& value, std::span<const char* const> names, FieldDoc) override {
     const toml::node* n = Find(key);
     if (!n) return;
     const auto* s = n->as_string();
@@ -221,7 +219,7 @@ class TableReader final : public ParamVisitor {
         key, *n,
         "'" + s->get() + "' is not one of: " + JoinNames(names) + DidYouMean(s->get(), candidates));
   }
-  void Text(const char* key, std::string& value, const char*) override {
+  void Text(const char* key, std::string& value, FieldDoc) override {
     const toml::node* n = Find(key);
     if (!n) return;
     const auto* s = n->as_string();
@@ -229,7 +227,7 @@ class TableReader final : public ParamVisitor {
     value = s->get();
   }
   void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
-              const char*) override {
+              FieldDoc) override {
     const toml::node* n = Find(key);
     if (!n) return;
     const auto v = AsVec(*n);
@@ -242,7 +240,7 @@ class TableReader final : public ParamVisitor {
     value = *v;
   }
   void Points(const char* key, std::vector<Vec2>& value, double min, double max, const char* unit,
-              const char*) override {
+              FieldDoc) override {
     const toml::node* n = Find(key);
     if (!n) return;
     const toml::array* a = n->as_array();

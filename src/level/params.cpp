@@ -24,6 +24,17 @@ Status CheckParams(const LevelParams& p) {
   return std::nullopt;
 }
 
+std::vector<std::string> RestartKeys() {
+  LevelParams defaults;
+  std::vector<std::string> keys;
+  for (const ParamSection& s : Sections(defaults)) {
+    for (const FieldInfo& f : ListFields(s)) {
+      if (f.apply == Apply::kRestart) keys.push_back(s.name + "." + f.key);
+    }
+  }
+  return keys;
+}
+
 Status SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text) {
   const size_t dot = dottedKey.find('.');
   if (dot == std::string::npos) {

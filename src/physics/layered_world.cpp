@@ -2,6 +2,7 @@
 
 #include "world_impl.h"
 
+#include "proxygrasp/core/params.h"
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
 
@@ -18,32 +19,15 @@ Error ParamError(const std::string& key, const std::string& what) {
   return MakeError(SourceLoc{}, "physics." + key + " " + what);
 }
 
+// the physics section of a copy of p, for the checks the description drives
+ParamSection PhysicsSection(PhysicsParams& p) {
+  return {"physics", [&p](ParamVisitor& v) { Describe(p, v); }};
+}
+
 Status ValidateParams(const PhysicsParams& p, const TableParams& t) {
-  auto range = [](const char* key, double v, double lo, double hi) -> Status {
-    if (!(v >= lo && v <= hi)) {
-      return ParamError(key, "must be in [" + FormatDouble(lo) + ", " + FormatDouble(hi) +
-                                 "] (got " + FormatDouble(v) + ")");
-    }
-    return std::nullopt;
-  };
-  Status s;
-  if ((s = range("frame_rate", p.frameRate, 1, 1000)) ||
-      (s = range("substeps", p.substeps, 1, 64)) ||
-      (s = range("velocity_iterations", p.velocityIterations, 1, 100)) ||
-      (s = range("position_iterations", p.positionIterations, 1, 100)) ||
-      (s = range("threads", p.threads, 1, 16)) ||
-      (s = range("layer_height", p.layerHeight, 0.05, 100)) ||
-      (s = range("layers", p.layers, 1, 16)) || (s = range("gravity", p.gravity, 0, 1e4)) ||
-      (s = range("particle_radius", p.particleRadius, 0.01, 5)) ||
-      (s = range("particle_mass", p.particleMass, 0.001, 1000)) ||
-      (s = range("stack_size", p.stackSize, 1, 16)) ||
-      (s = range("particle_down_force", p.particleDownForce, 0, 1e7)) ||
-      (s = range("particle_friction", p.particleFriction, 0, 10)) ||
-      (s = range("top_kinetic_factor", p.topKineticFactor, 0, 1)) ||
-      (s = range("held_opposing_dot", p.heldOpposingDot, -1, 0)) ||
-      (s = range("held_friction_margin", p.heldFrictionMargin, 0, 1))) {
-    return s;
-  }
+  // every range comes from the parameters' description
+  PhysicsParams copy = p;
+  if (Status s = CheckFields(PhysicsSection(copy))) return s;
   if (!(t.width > 0 && t.height > 0 && t.wallThickness > 0)) {
     return MakeError(SourceLoc{}, "table width, height and wall_thickness must be > 0");
   }
@@ -525,14 +509,10 @@ int LayeredWorld::PlanErrors() const {
 }
 
 std::vector<std::string> LayeredWorld::FixedKeysChanged(const PhysicsParams& physics) const {
-  const PhysicsParams& p = m_impl->params;
-  std::vector<std::string> keys;
-  if (physics.layerHeight != p.layerHeight) keys.emplace_back("layer_height");
-  if (physics.layers != p.layers) keys.emplace_back("layers");
-  if (physics.particleRadius != p.particleRadius) keys.emplace_back("particle_radius");
-  if (physics.stackSize != p.stackSize) keys.emplace_back("stack_size");
-  if (physics.capsule != p.capsule) keys.emplace_back("capsule");
-  return keys;
+  // the keys described as needing a restart (Apply::kRestart)
+  PhysicsParams now = m_impl->params;
+  PhysicsParams next = physics;
+  return RestartKeysChanged(PhysicsSection(now), PhysicsSection(next));
 }
 
 Status LayeredWorld::SetParams(const PhysicsParams& physics) {

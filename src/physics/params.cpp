@@ -3,20 +3,24 @@
 namespace pg {
 
 void Describe(PhysicsParams& p, ParamVisitor& v) {
-  v.Real("frame_rate", p.frameRate, 1, 1000, "Hz", "camera frames per second");
+  v.Real("frame_rate", p.frameRate, 1, 1000, "Hz", {"camera frames per second", Apply::kRestart});
   v.Integer("substeps", p.substeps, 1, 64, "1", "physics substeps per frame");
   v.Integer("velocity_iterations", p.velocityIterations, 1, 100, "1",
             "Box2D velocity iterations per substep");
   v.Integer("position_iterations", p.positionIterations, 1, 100, "1",
             "Box2D position iterations per substep");
   v.Integer("threads", p.threads, 1, 16, "1", "threads stepping the layer worlds concurrently");
-  v.Real("layer_height", p.layerHeight, 0.05, 100, "cm", "height h of one layer");
-  v.Integer("layers", p.layers, 1, 16, "1", "layer count K");
+  v.Real("layer_height", p.layerHeight, 0.05, 100, "cm",
+         {"height h of one layer", Apply::kRestart});
+  v.Integer("layers", p.layers, 1, 16, "1", {"layer count K", Apply::kRestart});
   v.Real("gravity", p.gravity, 0, 10000, "cm/s^2", "gravity for table friction");
-  v.Real("particle_radius", p.particleRadius, 0.01, 5, "cm", "radius of one particle body");
+  v.Real("particle_radius", p.particleRadius, 0.01, 5, "cm",
+         {"radius of one particle body", Apply::kRestart});
   v.Real("particle_mass", p.particleMass, 0.001, 1000, "g", "mass of one particle body");
-  v.Integer("stack_size", p.stackSize, 1, 16, "1", "S, bodies per particle stack");
-  v.Boolean("capsule", p.capsule, "fill every layer from a particle's base to the top");
+  v.Integer("stack_size", p.stackSize, 1, 16, "1",
+            {"S, bodies per particle stack", Apply::kRestart});
+  v.Boolean("capsule", p.capsule,
+            {"fill every layer from a particle's base to the top", Apply::kRestart});
   v.Real("particle_down_force", p.particleDownForce, 0, 1e7, "dyn",
          "constant downward force per particle");
   v.Real("particle_friction", p.particleFriction, 0, 10, "1",

@@ -39,30 +39,17 @@ Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
   if (!m_camera) return MakeError({m_level.path}, "the simulation has not started");
   if (Status s = CheckParams(params)) return *s;
 
-  // every changed key, and whether its stage can take it while running
-  const std::vector<std::string> sensorFixed = m_sensor.FixedKeysChanged(params.sensing);
-  const std::vector<std::string> cameraFixed = m_camera->FixedKeysChanged(params.camera);
-  const std::vector<std::string> physicsFixed = m_world.FixedKeysChanged(params.physics);
-  auto fixed = [&](const std::string& section, const std::string& key) {
-    // the table shapes the walls, the sensor's mapping and the camera
-    if (section == "table") return true;
-    const auto in = [&key](const std::vector<std::string>& keys) {
-      return std::find(keys.begin(), keys.end(), key) != keys.end();
-    };
-    if (section == "sensing") return in(sensorFixed);
-    if (section == "camera") return in(cameraFixed);
-    // the frame rate is also the script's and the camera's clock: a change restarts the run
-    if (section == "physics") return key == "frame_rate" || in(physicsFixed);
-    return false;  // proxies and tracking take their parameters every frame
-  };
+  // every changed key, live or restart as its description says (Apply)
   RetuneReport report;
   LevelParams before = m_params;
   LevelParams after = params;
   const std::vector<ParamSection> old = Sections(before);
   const std::vector<ParamSection> now = Sections(after);
   for (size_t i = 0; i < old.size(); ++i) {
+    const std::vector<std::string> restart = RestartKeysChanged(old[i], now[i]);
     for (const std::string& key : ChangedKeys(old[i], now[i])) {
-      (fixed(old[i].name, key) ? report.restart : report.live).push_back(old[i].name + "." + key);
+      const bool fixed = std::find(restart.begin(), restart.end(), key) != restart.end();
+      (fixed ? report.restart : report.live).push_back(old[i].name + "." + key);
     }
   }
   if (!report.restart.empty()) return report;

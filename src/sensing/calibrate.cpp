@@ -27,7 +27,7 @@ std::string Cm(double v) {
   return buffer;
 }
 
-Vec2 Apply(const cv::Matx33d& h, const Vec2& p) {
+Vec2 ApplyHomography(const cv::Matx33d& h, const Vec2& p) {
   const cv::Vec3d q = h * cv::Vec3d(p.x(), p.y(), 1.0);
   return Vec2(q[0] / q[2], q[1] / q[2]);
 }
@@ -147,7 +147,7 @@ Result<ChessboardTarget> MakeChessboardTarget(const TableParams& table,
   const cv::Matx33d displayToTable = target.tableToDisplay.inv();
   for (int j = 1; j < ny; ++j) {
     for (int i = 1; i < nx; ++i)
-      target.tableCorners.push_back(Apply(displayToTable, Vec2(x0 + i * s, y0 + j * s)));
+      target.tableCorners.push_back(ApplyHomography(displayToTable, Vec2(x0 + i * s, y0 + j * s)));
   }
   return target;
 }

@@ -3,8 +3,8 @@
 namespace pg {
 
 void Describe(SyntheticCameraParams& p, ParamVisitor& v) {
-  v.Integer("width", p.width, 64, 4096, "px", "image width");
-  v.Integer("height", p.height, 48, 4096, "px", "image height");
+  v.Integer("width", p.width, 64, 4096, "px", {"image width", Apply::kRestart});
+  v.Integer("height", p.height, 48, 4096, "px", {"image height", Apply::kRestart});
   v.Real("background", p.background, 0, 255, "grey", "mean background level");
   v.Real("contact_level", p.contactLevel, 0, 255, "grey", "level of full contact");
   v.Real("halo_level", p.haloLevel, 0, 255, "grey", "extra brightness of a hovering hand's halo");
@@ -12,23 +12,27 @@ void Describe(SyntheticCameraParams& p, ParamVisitor& v) {
   v.Real("vignetting", p.vignetting, 0, 1, "1", "background brightness lost at the corners");
   v.Real("gradient", p.gradient, -128, 128, "grey", "slow left-to-right background ramp");
   v.Real("noise", p.noise, 0, 64, "grey", "Gaussian sensor noise deviation");
-  v.Real("distortion", p.distortion, -1, 1, "1", "radial lens distortion k1 (0 = none)");
+  v.Real("distortion", p.distortion, -1, 1, "1",
+         {"radial lens distortion k1 (0 = none)", Apply::kRestart});
   v.Real("perspective", p.perspective, 0, 0.3, "1",
-         "camera-to-table keystone as a fraction of the width (0 = none)");
-  v.Integer("seed", p.seed, 0, 2147483647, "1", "noise seed; the same seed gives the same frames");
+         {"camera-to-table keystone as a fraction of the width (0 = none)", Apply::kRestart});
+  v.Integer("seed", p.seed, 0, 2147483647, "1",
+            {"noise seed; the same seed gives the same frames", Apply::kRestart});
 }
 
 void Describe(SensingParams& p, ParamVisitor& v) {
   v.Text("calibration", p.calibration,
-         "calibration YAML written by `proxygrasp calibrate` (\"\" maps the image linearly)");
+         {"calibration YAML written by `proxygrasp calibrate` (\"\" maps the image linearly)",
+          Apply::kRestart});
   VisitEnum(v, "threshold_mode", p.thresholdMode, kThresholdModeNames,
             "fixed threshold, or automatic (Otsu)");
   v.Real("threshold", p.threshold, 1, 254, "grey", "fixed threshold on the normalized image");
   v.Real("auto_floor", p.autoFloor, 1, 254, "grey",
          "lowest threshold the automatic (Otsu) mode may pick, so an empty table stays empty");
   v.Integer("background_frames", p.backgroundFrames, 0, 600, "frames",
-            "clear-table frames averaged into the background at start (0 = estimate it from the "
-            "first frame); unused when the calibration file holds a background");
+            {"clear-table frames averaged into the background at start (0 = estimate it from the "
+             "first frame); unused when the calibration file holds a background",
+             Apply::kRestart});
   v.Integer("morphology", p.morphology, 0, 8, "px",
             "radius of the opening that removes specks and one-pixel bridges (0 = none)");
   v.Real("min_area", p.minArea, 0, 1000, "cm^2", "smallest contact kept");

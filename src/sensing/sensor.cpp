@@ -1,5 +1,7 @@
 #include "proxygrasp/sensing/sensor.h"
 
+#include "proxygrasp/core/params.h"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -36,13 +38,10 @@ Vec2 ApplyHomography(const cv::Matx33d& h, double x, double y) {
 }
 
 // what Configure and SetParams require beyond the described ranges
+// every range comes from the parameters' description
 Status CheckSensingParams(const SensingParams& params) {
-  if (!(params.spacing > 0.0)) return MakeError({"sensing.spacing"}, "must be > 0");
-  if (params.minArea < 0.0) return MakeError({"sensing.min_area"}, "must be >= 0");
-  if (params.morphology < 0) return MakeError({"sensing.morphology"}, "must be >= 0");
-  if (!(params.tableCmPerPixel > 0.0))
-    return MakeError({"sensing.table_cm_per_pixel"}, "must be > 0");
-  return std::nullopt;
+  SensingParams copy = params;
+  return CheckFields({"sensing", [&copy](ParamVisitor& v) { Describe(copy, v); }});
 }
 
 // the structuring element of the clean-up opening (empty for none)
@@ -172,10 +171,11 @@ Status Sensor::SetParams(const SensingParams& params) {
 }
 
 std::vector<std::string> Sensor::FixedKeysChanged(const SensingParams& params) const {
-  std::vector<std::string> keys;
-  if (params.calibration != m_params.calibration) keys.emplace_back("calibration");
-  if (params.backgroundFrames != m_params.backgroundFrames) keys.emplace_back("background_frames");
-  return keys;
+  // the keys described as needing a restart (Apply::kRestart)
+  SensingParams now = m_params;
+  SensingParams next = params;
+  return RestartKeysChanged({"sensing", [&now](ParamVisitor& v) { Describe(now, v); }},
+                            {"sensing", [&next](ParamVisitor& v) { Describe(next, v); }});
 }
 
 Status Sensor::SetBackground(const cv::Mat& background) {

@@ -1,5 +1,6 @@
 #include "proxygrasp/sensing/synthetic_camera.h"
 
+#include "proxygrasp/core/params.h"
 #include "proxygrasp/core/units.h"
 
 #include <opencv2/imgproc.hpp>
@@ -418,13 +419,11 @@ Status SyntheticCamera::SetParams(const SyntheticCameraParams& params) {
 
 std::vector<std::string> SyntheticCamera::FixedKeysChanged(
     const SyntheticCameraParams& params) const {
-  std::vector<std::string> keys;
-  if (params.width != m_params.width) keys.emplace_back("width");
-  if (params.height != m_params.height) keys.emplace_back("height");
-  if (params.distortion != m_params.distortion) keys.emplace_back("distortion");
-  if (params.perspective != m_params.perspective) keys.emplace_back("perspective");
-  if (params.seed != m_params.seed) keys.emplace_back("seed");
-  return keys;
+  // the keys described as needing a restart (Apply::kRestart)
+  SyntheticCameraParams now = m_params;
+  SyntheticCameraParams next = params;
+  return RestartKeysChanged({"camera", [&now](ParamVisitor& v) { Describe(now, v); }},
+                            {"camera", [&next](ParamVisitor& v) { Describe(next, v); }});
 }
 
 cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo) {

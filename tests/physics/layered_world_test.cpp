@@ -279,10 +279,9 @@ TEST(Determinism, ThreadedSteppingIsBitIdenticalToSerial) {
   EXPECT_EQ(again.world.StateHash(), serial.world.StateHash());
 }
 
-// every parameter SetParams may change, away from its default
+// every parameter SetParams may change (the live ones), away from its default
 PhysicsParams Tuned() {
   PhysicsParams p;
-  p.frameRate = 50;
   p.substeps = 5;
   p.velocityIterations = 6;
   p.positionIterations = 4;

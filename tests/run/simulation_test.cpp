@@ -1,9 +1,13 @@
 #include "proxygrasp/run/simulation.h"
 
+#include "proxygrasp/core/text.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "run/test_levels.h"
 
@@ -288,6 +292,79 @@ TEST(Simulation, RetuneRejectsBadValuesAndKeepsTheParameters) {
   // and the run goes on as before
   ASSERT_FALSE(sim.StepScript());
   EXPECT_EQ(sim.Frame(), 2);
+}
+
+// a different valid value for a field, as TOML text
+std::string AnotherValue(const FieldInfo& f) {
+  switch (f.type) {
+    case FieldInfo::Type::kReal: {
+      const double v = std::stod(f.value);
+      const double step = 0.01 * (f.max - f.min);
+      return FormatDouble(v + step <= f.max ? v + step : v - step);
+    }
+    case FieldInfo::Type::kInteger: {
+      const int v = std::stoi(f.value);
+      return std::to_string(v + 1 <= f.max ? v + 1 : v - 1);
+    }
+    case FieldInfo::Type::kBoolean:
+      return f.value == "true" ? "false" : "true";
+    case FieldInfo::Type::kChoice: {
+      const std::string current = f.value.substr(1, f.value.size() - 2);
+      return f.choices[0] == current ? f.choices[1] : f.choices[0];
+    }
+    case FieldInfo::Type::kText:
+      return "another.yaml";
+    case FieldInfo::Type::kVector:
+    case FieldInfo::Type::kPoints:
+      break;
+  }
+  ADD_FAILURE() << f.key << ": no other value for this type";
+  return f.value;
+}
+
+TEST(Simulation, RetuneTakesEveryKeyLiveOrRestartsAsItsDescriptionSays) {
+  // walks every parameter of every section: a key described Apply::kLive is taken by the running
+  // stages (the simulation runs on with the new value, frame count kept), one described
+  // Apply::kRestart is reported and nothing changes. Renaming or adding a key keeps this true.
+  const Level level = BoxLevel();
+  LevelParams base = level.params;
+  const std::vector<ParamSection> sections = Sections(base);
+  int live = 0;
+  int restart = 0;
+  for (size_t i = 0; i < sections.size(); ++i) {
+    for (const FieldInfo& f : ListFields(sections[i])) {
+      const std::string dotted = sections[i].name + "." + f.key;
+      LevelParams changed = base;
+      const std::string value = AnotherValue(f);
+      ASSERT_FALSE(SetParam(changed, dotted, value)) << dotted << " = " << value;
+      Simulation sim;
+      ASSERT_FALSE(sim.Start(level, base));
+      ASSERT_FALSE(sim.StepScript());
+      const Result<RetuneReport> report = sim.Retune(changed);
+      ASSERT_TRUE(report.ok()) << dotted << ": " << report.error().Format();
+      LevelParams now = sim.params();
+      const std::vector<FieldInfo> after = ListFields(Sections(now)[i]);
+      const auto field = std::find_if(after.begin(), after.end(),
+                                      [&f](const FieldInfo& a) { return a.key == f.key; });
+      ASSERT_NE(field, after.end());
+      if (f.apply == Apply::kRestart) {
+        ++restart;
+        EXPECT_EQ(report.value().restart, std::vector<std::string>{dotted});
+        EXPECT_TRUE(report.value().live.empty()) << dotted;
+        EXPECT_EQ(field->value, f.value) << dotted << " must not change a running simulation";
+      } else {
+        ++live;
+        EXPECT_EQ(report.value().live, std::vector<std::string>{dotted});
+        EXPECT_TRUE(report.value().restart.empty()) << dotted;
+        EXPECT_EQ(field->value, ListFields(Sections(changed)[i])[field - after.begin()].value)
+            << dotted << " is live but was not taken";
+        EXPECT_FALSE(sim.StepScript()) << dotted << ": the run goes on with the new value";
+        EXPECT_EQ(sim.Frame(), 2);
+      }
+    }
+  }
+  EXPECT_EQ(restart, static_cast<int>(RestartKeys().size()));
+  EXPECT_GT(live, 30);
 }
 
 TEST(Simulation, RetuneBeforeStartIsAnError) {

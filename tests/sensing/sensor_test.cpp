@@ -285,7 +285,7 @@ TEST(Sensor, SetParamsRejectsWhatOnlyConfigureCanChange) {
   sp.spacing = 0.0;
   const Status bad = rig.sensor.SetParams(sp);
   ASSERT_TRUE(bad);
-  EXPECT_EQ(bad->Format(), "sensing.spacing: must be > 0");
+  EXPECT_EQ(bad->Format(), "sensing.spacing must be in [0.05, 5] cm (got 0)");
   // nothing changed
   EXPECT_EQ(rig.sensor.params().threshold, SensingParams().threshold);
   EXPECT_TRUE(rig.sensor.FixedKeysChanged(rig.sensor.params()).empty());

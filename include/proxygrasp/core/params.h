@@ -14,6 +14,22 @@
 
 namespace pg {
 
+/// When a change of a parameter takes effect on a running simulation.
+enum class Apply {
+  kLive,     ///< between two frames: the stage that owns it changes in place (SetParams)
+  kRestart,  ///< only in a new run: the parameter shapes what the stage built
+};
+inline constexpr const char* kApplyNames[] = {"live", "restart"};
+
+/// A field's one-line doc and when a change of it takes effect. A plain string is a live field's
+/// doc: `"gravity for table friction"`, `{"layer count K", Apply::kRestart}`.
+struct FieldDoc {
+  FieldDoc(const char* text) : text(text) {}  // NOLINT(google-explicit-constructor)
+  FieldDoc(const char* text, Apply apply) : text(text), apply(apply) {}
+  const char* text;
+  Apply apply = Apply::kLive;
+};
+
 /// Receives the fields of a parameter struct, by reference, one call each.
 class ParamVisitor {
  public:
@@ -21,34 +37,34 @@ class ParamVisitor {
 
   /// A real number in [min, max]. unit is "cm", "g", "dyn", "s", "Hz", "deg", "1" (none), ...
   virtual void Real(const char* key, double& value, double min, double max, const char* unit,
-                    const char* doc) = 0;
+                    FieldDoc doc) = 0;
   /// An integer in [min, max].
   virtual void Integer(const char* key, int& value, int min, int max, const char* unit,
-                       const char* doc) = 0;
+                       FieldDoc doc) = 0;
   /// A flag.
-  virtual void Boolean(const char* key, bool& value, const char* doc) = 0;
+  virtual void Boolean(const char* key, bool& value, FieldDoc doc) = 0;
   /// One of a fixed list of names; value is the index into names.
   virtual void Choice(const char* key, int& value, std::span<const char* const> names,
-                      const char* doc) = 0;
+                      FieldDoc doc) = 0;
   /// Free text (a file path, say).
-  virtual void Text(const char* key, std::string& value, const char* doc) = 0;
+  virtual void Text(const char* key, std::string& value, FieldDoc doc) = 0;
   /// An angle held in radians and written in degrees, in [minDeg, maxDeg]; unit is "deg" or
   /// "deg/s". By default it is visited as a Real in degrees, so visitors that only know Real see
   /// and set degrees.
   virtual void Angle(const char* key, double& radians, double minDeg, double maxDeg,
-                     const char* unit, const char* doc);
+                     const char* unit, FieldDoc doc);
   /// A 2D vector written [x, y], each component in [min, max]. Skipped by default.
   virtual void Vector(const char* key, Vec2& value, double min, double max, const char* unit,
-                      const char* doc);
+                      FieldDoc doc);
   /// A list of 2D points written [[x, y], ...], each coordinate in [min, max]. Skipped by default.
   virtual void Points(const char* key, std::vector<Vec2>& value, double min, double max,
-                      const char* unit, const char* doc);
+                      const char* unit, FieldDoc doc);
 };
 
 /// Visits an enum field as a Choice; E's values must be 0..names.size()-1 in order.
 template <typename E>
 void VisitEnum(ParamVisitor& v, const char* key, E& value, std::span<const char* const> names,
-               const char* doc) {
+               FieldDoc doc) {
   int index = static_cast<int>(value);
   v.Choice(key, index, names, doc);
   value = static_cast<E>(index);
@@ -69,6 +85,7 @@ struct FieldInfo {
   double max = 0.0;
   std::string unit;
   std::string doc;
+  Apply apply = Apply::kLive;        ///< when a change takes effect
   std::vector<std::string> choices;  ///< for kChoice
   std::string value;                 ///< current value as TOML text
 };
@@ -90,6 +107,10 @@ Status CheckFields(const ParamSection& section);
 /// The keys of the fields whose values differ between two descriptions of the same struct (exact
 /// values, as ListFields writes them), in description order.
 std::vector<std::string> ChangedKeys(const ParamSection& a, const ParamSection& b);
+
+/// The keys of the fields marked Apply::kRestart whose values differ between two descriptions of
+/// the same struct, in description order: the changes a running stage cannot take.
+std::vector<std::string> RestartKeysChanged(const ParamSection& a, const ParamSection& b);
 
 /// Writes the fields whose values differ from `defaults` as a TOML table ("[name]\nkey = value\n"),
 /// or "" when none differ.

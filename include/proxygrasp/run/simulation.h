@@ -69,14 +69,13 @@ class Simulation {
                const SimulationOptions& options = {});
 
   /// Adopts new parameters between frames and keeps the run's state: objects, particles, contacts,
-  /// the stages' memory and the frame count stay as they are. Every [proxies] and [tracking]
-  /// parameter changes live, [sensing] all but calibration and background_frames, [camera] its
-  /// lighting and noise, [physics] all but frame_rate and the keys that shape the bodies
-  /// (LayeredWorld::FixedKeysChanged). [table] and the camera's size, lens, keystone and seed
-  /// need a rebuild too: when any of those changed,
-  /// nothing is applied and report.restart names them (Start applies everything). A value out of
-  /// its range is an Error naming it ("physics.substeps must be in [1, 64] (got 0)"), and nothing
-  /// changes.
+  /// the stages' memory and the frame count stay as they are. Each parameter's description says
+  /// whether a running stage takes it (Apply::kLive, through the stage's SetParams) or only a new
+  /// run can (Apply::kRestart: the table, the frame rate, the layers and particle shapes, the
+  /// camera's size, lens and seed, the calibration and background capture). When any restart key
+  /// changed, nothing is applied and report.restart names them (Start applies everything). A value
+  /// out of its range is an Error naming it ("physics.substeps must be in [1, 64] (got 0)"), and
+  /// nothing changes.
   Result<RetuneReport> Retune(const LevelParams& params);
 
   /// One frame whose contacts are the level's script at the current time.
