@@ -152,4 +152,55 @@ double SmoothStep(double t) {
   return t * t * (3.0 - 2.0 * t);
 }
 
+std::optional<std::string> PolygonProblem(const std::vector<Vec2>& p, bool convex) {
+  const size_t n = p.size();
+  if (n < 3) return "needs at least 3 points, got " + std::to_string(n);
+  for (size_t i = 0; i < n; ++i) {
+    if ((p[i] - p[(i + 1) % n]).norm() < 1e-9) {
+      return "has coincident points " + std::to_string(i + 1) + " and " +
+             std::to_string((i + 1) % n + 1);
+    }
+  }
+  // any two edges that are not neighbours must not touch
+  auto segmentsMeet = [](const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    const double d1 = Cross(b - a, c - a);
+    const double d2 = Cross(b - a, d - a);
+    const double d3 = Cross(d - c, a - c);
+    const double d4 = Cross(d - c, b - c);
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
+      return true;
+    }
+    // touching or collinear overlap
+    auto onSegment = [](const Vec2& s, const Vec2& e, const Vec2& q, double cross) {
+      return cross == 0 && q.x() >= std::min(s.x(), e.x()) && q.x() <= std::max(s.x(), e.x()) &&
+             q.y() >= std::min(s.y(), e.y()) && q.y() <= std::max(s.y(), e.y());
+    };
+    return onSegment(a, b, c, d1) || onSegment(a, b, d, d2) || onSegment(c, d, a, d3) ||
+           onSegment(c, d, b, d4);
+  };
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;
+      if (segmentsMeet(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n])) {
+        return "is not a simple polygon: edge " + std::to_string(i + 1) + "-" +
+               std::to_string((i + 1) % n + 1) + " meets edge " + std::to_string(j + 1) + "-" +
+               std::to_string((j + 1) % n + 1);
+      }
+    }
+  }
+  if (std::abs(SignedArea(ToContour(p))) < 1e-6) return "encloses no area";
+  if (convex) {
+    const double sign = SignedArea(ToContour(p)) > 0 ? 1.0 : -1.0;
+    for (size_t i = 0; i < n; ++i) {
+      const Vec2& a = p[(i + n - 1) % n];
+      const Vec2& b = p[i];
+      const Vec2& c = p[(i + 1) % n];
+      if (sign * Cross(b - a, c - b) < 0) {
+        return "is not convex: it turns the other way at point " + std::to_string(i + 1);
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace pg

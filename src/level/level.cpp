@@ -5,6 +5,7 @@
 
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
+#include "proxygrasp/physics/shapes.h"
 
 #include <opencv2/videoio.hpp>
 #include <toml++/toml.h>
@@ -273,88 +274,6 @@ class TableReader final : public ParamVisitor {
   std::string m_prefix;
 };
 
-// the axis-aligned bounds of an object's footprint on the table at its starting pose, cm
-std::pair<Vec2, Vec2> FootprintBounds(const ObjectSpec& o) {
-  std::vector<Vec2> outline;
-  switch (o.shape) {
-    case ObjectShape::kBox:
-      outline = {Vec2(-0.5 * o.sizeX, -0.5 * o.sizeY), Vec2(0.5 * o.sizeX, -0.5 * o.sizeY),
-                 Vec2(0.5 * o.sizeX, 0.5 * o.sizeY), Vec2(-0.5 * o.sizeX, 0.5 * o.sizeY)};
-      break;
-    case ObjectShape::kCylinder:
-    case ObjectShape::kSphere:
-    case ObjectShape::kFrustum: {
-      // a frustum standing on its narrow end still overhangs with its wide one
-      const double r = std::max(o.radius, o.shape == ObjectShape::kFrustum ? o.topRadius : 0.0);
-      return {o.pose.pos - Vec2(r, r), o.pose.pos + Vec2(r, r)};
-    }
-    case ObjectShape::kConvexPrism:
-    case ObjectShape::kConcavePrism:
-      outline = o.points;
-      break;
-  }
-  Vec2 low = Vec2::Constant(std::numeric_limits<double>::infinity());
-  Vec2 high = -low;
-  for (const Vec2& p : outline) {
-    const Vec2 w = o.pose.Apply(p);
-    low = low.cwiseMin(w);
-    high = high.cwiseMax(w);
-  }
-  return {low, high};
-}
-
-// polygon checks shared by prisms and contact outlines; index is 1-based in messages
-std::optional<std::string> CheckPolygon(const std::vector<Vec2>& p, bool convex) {
-  const size_t n = p.size();
-  if (n < 3) return "needs at least 3 points, got " + std::to_string(n);
-  for (size_t i = 0; i < n; ++i) {
-    if ((p[i] - p[(i + 1) % n]).norm() < 1e-9) {
-      return "has coincident points " + std::to_string(i + 1) + " and " +
-             std::to_string((i + 1) % n + 1);
-    }
-  }
-  // any two edges that are not neighbours must not touch
-  auto segmentsMeet = [](const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-    const double d1 = Cross(b - a, c - a);
-    const double d2 = Cross(b - a, d - a);
-    const double d3 = Cross(d - c, a - c);
-    const double d4 = Cross(d - c, b - c);
-    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) {
-      return true;
-    }
-    // touching or collinear overlap
-    auto onSegment = [](const Vec2& s, const Vec2& e, const Vec2& q, double cross) {
-      return cross == 0 && q.x() >= std::min(s.x(), e.x()) && q.x() <= std::max(s.x(), e.x()) &&
-             q.y() >= std::min(s.y(), e.y()) && q.y() <= std::max(s.y(), e.y());
-    };
-    return onSegment(a, b, c, d1) || onSegment(a, b, d, d2) || onSegment(c, d, a, d3) ||
-           onSegment(c, d, b, d4);
-  };
-  for (size_t i = 0; i < n; ++i) {
-    for (size_t j = i + 2; j < n; ++j) {
-      if (i == 0 && j == n - 1) continue;
-      if (segmentsMeet(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n])) {
-        return "is not a simple polygon: edge " + std::to_string(i + 1) + "-" +
-               std::to_string((i + 1) % n + 1) + " meets edge " + std::to_string(j + 1) + "-" +
-               std::to_string((j + 1) % n + 1);
-      }
-    }
-  }
-  if (std::abs(SignedArea(ToContour(p))) < 1e-6) return "encloses no area";
-  if (convex) {
-    const double sign = SignedArea(ToContour(p)) > 0 ? 1.0 : -1.0;
-    for (size_t i = 0; i < n; ++i) {
-      const Vec2& a = p[(i + n - 1) % n];
-      const Vec2& b = p[i];
-      const Vec2& c = p[(i + 1) % n];
-      if (sign * Cross(b - a, c - b) < 0) {
-        return "is not convex: it turns the other way at point " + std::to_string(i + 1);
-      }
-    }
-  }
-  return std::nullopt;
-}
-
 // the loader: one per LoadLevel/ParseLevel call
 class Loader {
  public:
@@ -618,19 +537,14 @@ class Loader {
       return MakeError(ValueLoc(t, "name"), "duplicate object name '" + o.name +
                                                 "' (first defined at " + first->loc.Format() + ")");
     }
-    if (ObjectKeyApplies(o.shape, "points")) {
-      const bool convex = o.shape == ObjectShape::kConvexPrism;
-      if (auto problem = CheckPolygon(o.points, convex)) {
-        return MakeError(ValueLoc(t, "points"), "points of a " + shapeName + " " + *problem);
-      }
-    }
-    if (o.tableKinetic > o.tableStatic) {
-      return MakeError(ValueLoc(t, t.contains("table_kinetic") ? "table_kinetic" : "table_static"),
-                       "table_kinetic (" + FormatDouble(o.tableKinetic) +
-                           ") must not exceed table_static (" + FormatDouble(o.tableStatic) + ")");
-    }
     if (t.contains("mass") && t.contains("density")) {
       return MakeError(KeyLoc(t, "density"), "give either mass or density, not both");
+    }
+    // the physics module's own checks of the shape, mass and friction, at the key they are about
+    std::string field;
+    if (Status s = ValidateObject(o, level.params.physics, &field)) {
+      const bool atKey = t.contains(field);
+      return MakeError(atKey ? ValueLoc(t, field) : Loc(t.source()), s->message);
     }
     // the whole footprint, not just the centre, must be on the table
     const TableParams& table = level.params.table;
@@ -788,7 +702,7 @@ class Loader {
     }
     if (ContactKeyApplies(contact.shape.kind, "points")) {
       const bool convex = contact.shape.kind == ShapeKind::kConvexPolygon;
-      if (auto problem = CheckPolygon(contact.shape.points, convex)) {
+      if (auto problem = PolygonProblem(contact.shape.points, convex)) {
         return MakeError(ValueLoc(t, "points"),
                          "points of a " + shapeName + " contact " + *problem);
       }

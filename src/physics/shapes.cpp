@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace pg {
@@ -61,26 +62,6 @@ Contour DropCollinear(const Contour& c) {
   return ToContour(kept);
 }
 
-bool SegmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double d1 = Cross(b - a, c - a);
-  const double d2 = Cross(b - a, d - a);
-  const double d3 = Cross(d - c, a - c);
-  const double d4 = Cross(d - c, b - c);
-  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 && d2 != 0 && d3 != 0 &&
-         d4 != 0;
-}
-
-bool IsSimple(const Contour& c) {
-  const int n = static_cast<int>(c.cols());
-  for (int i = 0; i < n; ++i) {
-    for (int j = i + 2; j < n; ++j) {
-      if (i == 0 && j == n - 1) continue;  // adjacent through the closing edge
-      if (SegmentsCross(c.col(i), c.col((i + 1) % n), c.col(j), c.col((j + 1) % n))) return false;
-    }
-  }
-  return true;
-}
-
 bool IsConvexCcw(const Contour& c) {
   const int n = static_cast<int>(c.cols());
   for (int i = 0; i < n; ++i) {
@@ -124,15 +105,19 @@ double ObjectHeight(const ObjectSpec& spec) {
   return spec.shape == ObjectShape::kSphere ? 2.0 * spec.radius : spec.height;
 }
 
-Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params) {
-  auto positive = [&](const char* field, double v) -> Status {
-    if (!(v > 0) || !std::isfinite(v))
-      return FieldError(spec, field, "must be > 0 (got " + Num(v) + ")");
+Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params, std::string* field) {
+  // every problem names the field it is in
+  auto fail = [&](const std::string& key, const std::string& what) {
+    if (field) *field = key;
+    return FieldError(spec, key, what);
+  };
+  auto positive = [&](const char* key, double v) -> Status {
+    if (!(v > 0) || !std::isfinite(v)) return fail(key, "must be > 0 (got " + Num(v) + ")");
     return std::nullopt;
   };
-  auto nonNegative = [&](const char* field, double v) -> Status {
+  auto nonNegative = [&](const char* key, double v) -> Status {
     if (!(v >= 0) || !std::isfinite(v)) {
-      return FieldError(spec, field, "must be >= 0 (got " + Num(v) + ")");
+      return fail(key, "must be >= 0 (got " + Num(v) + ")");
     }
     return std::nullopt;
   };
@@ -155,37 +140,32 @@ Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params) {
       break;
     case ObjectShape::kConvexPrism:
     case ObjectShape::kConcavePrism: {
-      if (spec.points.size() < 3) {
-        return FieldError(
-            spec, "points",
-            "needs at least 3 points (got " + std::to_string(spec.points.size()) + ")");
-      }
       for (size_t i = 0; i < spec.points.size(); ++i) {
         if (!spec.points[i].allFinite()) {
-          return FieldError(spec, "points", "point " + std::to_string(i + 1) + " is not finite");
+          return fail("points", "point " + std::to_string(i + 1) + " is not finite");
         }
       }
+      // a simple polygon, convex for a convex prism (core/geometry.h)
+      if (auto problem = PolygonProblem(spec.points, spec.shape == ObjectShape::kConvexPrism)) {
+        return fail("points", *problem);
+      }
+      // then what Box2D needs: edges well above its vertex welding, some area, no slivers
       const Contour c = ToContour(spec.points);
       const int n = static_cast<int>(c.cols());
       for (int i = 0; i < n; ++i) {
         if ((c.col((i + 1) % n) - c.col(i)).norm() < kMinEdge) {
-          return FieldError(spec, "points",
-                            "points " + std::to_string(i + 1) + " and " +
-                                std::to_string((i + 1) % n + 1) + " are closer than " +
-                                Num(kMinEdge) + " cm");
+          return fail("points", "has points " + std::to_string(i + 1) + " and " +
+                                    std::to_string((i + 1) % n + 1) + " closer than " +
+                                    Num(kMinEdge) + " cm");
         }
       }
-      if (!IsSimple(c)) return FieldError(spec, "points", "outline crosses itself");
       if (std::abs(SignedArea(c)) < 0.01) {
-        return FieldError(spec, "points", "outline has no area (" + Num(SignedArea(c)) + " cm^2)");
+        return fail("points", "outline has no area (" + Num(SignedArea(c)) + " cm^2)");
       }
       const Contour ccw = DropCollinear(MakeCounterClockwise(c));
-      if (spec.shape == ObjectShape::kConvexPrism && !IsConvexCcw(ccw)) {
-        return FieldError(spec, "points", "outline is not convex (use shape = \"concave_prism\")");
-      }
       for (const Contour& piece : ConvexDecompose(ccw)) {
         if (SignedArea(piece) < 1e-4) {
-          return FieldError(spec, "points", "outline has a sliver Box2D cannot simulate");
+          return fail("points", "outline has a sliver Box2D cannot simulate");
         }
       }
       break;
@@ -195,11 +175,11 @@ Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params) {
 
   // mass and surface properties
   if (!(spec.mass >= 0) || !std::isfinite(spec.mass)) {
-    return FieldError(spec, "mass", "must be >= 0 (got " + Num(spec.mass) + ")");
+    return fail("mass", "must be >= 0 (got " + Num(spec.mass) + ")");
   }
   if (spec.mass == 0 && (s = positive("density", spec.density))) return s;
   if (spec.particleFriction >= 0 && !std::isfinite(spec.particleFriction)) {
-    return FieldError(spec, "particle_friction", "must be finite");
+    return fail("particle_friction", "must be finite");
   }
   if ((s = nonNegative("table_static", spec.tableStatic)) ||
       (s = nonNegative("table_kinetic", spec.tableKinetic)) ||
@@ -208,30 +188,28 @@ Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params) {
     return s;
   }
   if (spec.tableKinetic > spec.tableStatic) {
-    return FieldError(
-        spec, "table_kinetic",
-        "must be <= table_static (" + Num(spec.tableKinetic) + " > " + Num(spec.tableStatic) + ")");
+    return fail("table_kinetic", "must be <= table_static (" + Num(spec.tableKinetic) + " > " +
+                                     Num(spec.tableStatic) + ")");
   }
   if (spec.restitution > 1) {
-    return FieldError(spec, "restitution", "must be <= 1 (got " + Num(spec.restitution) + ")");
+    return fail("restitution", "must be <= 1 (got " + Num(spec.restitution) + ")");
   }
   if (!spec.pose.pos.allFinite() || !std::isfinite(spec.pose.angle)) {
-    return FieldError(spec, "pose", "must be finite");
+    return fail("pose", "must be finite");
   }
   if (!spec.velocity.allFinite() || !std::isfinite(spec.angularVelocity)) {
-    return FieldError(spec, "velocity", "must be finite");
+    return fail("velocity", "must be finite");
   }
 
   // particles resting on the top need a layer above the object's slices
   const double h = params.layerHeight;
   const double maxHeight = (params.layers - 0.5) * h;
   if (params.layers > 1 && ObjectHeight(spec) > maxHeight) {
-    return FieldError(spec, spec.shape == ObjectShape::kSphere ? "radius" : "height",
-                      "makes the object " + Num(ObjectHeight(spec)) +
-                          " cm tall, too tall for the layer stack: at most " + Num(maxHeight) +
-                          " cm with layers = " + std::to_string(params.layers) +
-                          " and layer_height = " + Num(h) +
-                          " cm, so that particles can rest on its top");
+    return fail(spec.shape == ObjectShape::kSphere ? "radius" : "height",
+                "makes the object " + Num(ObjectHeight(spec)) +
+                    " cm tall, too tall for the layer stack: at most " + Num(maxHeight) +
+                    " cm with layers = " + std::to_string(params.layers) +
+                    " and layer_height = " + Num(h) + " cm, so that particles can rest on its top");
   }
   return std::nullopt;
 }
@@ -337,6 +315,22 @@ CrossSection Footprint(const ObjectSpec& spec) {
     default:
       return SectionAt(spec, 0.0);
   }
+}
+
+std::pair<Vec2, Vec2> FootprintBounds(const ObjectSpec& spec) {
+  const CrossSection footprint = Footprint(spec);
+  if (footprint.circle) {
+    const Vec2 r = Vec2::Constant(footprint.radius);
+    return {spec.pose.pos - r, spec.pose.pos + r};
+  }
+  Vec2 low = Vec2::Constant(std::numeric_limits<double>::infinity());
+  Vec2 high = -low;
+  for (Eigen::Index i = 0; i < footprint.outline.cols(); ++i) {
+    const Vec2 w = spec.pose.Apply(footprint.outline.col(i));
+    low = low.cwiseMin(w);
+    high = high.cwiseMax(w);
+  }
+  return {low, high};
 }
 
 double SurfaceHeightAt(const ObjectSpec& spec, const Vec2& p) {

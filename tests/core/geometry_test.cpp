@@ -150,5 +150,19 @@ TEST(Geometry, SmoothStepEndsAndMiddle) {
   EXPECT_NEAR(SmoothStep(0.25), 0.15625, kExact);
 }
 
+TEST(Geometry, PolygonProblemNamesWhatIsWrong) {
+  const std::vector<Vec2> square = {Vec2(0, 0), Vec2(2, 0), Vec2(2, 2), Vec2(0, 2)};
+  EXPECT_EQ(PolygonProblem(square, true), std::nullopt);
+  const std::vector<Vec2> bow = {Vec2(0, 0), Vec2(2, 2), Vec2(2, 0), Vec2(0, 2)};
+  EXPECT_EQ(PolygonProblem(bow, false), "is not a simple polygon: edge 1-2 meets edge 3-4");
+  const std::vector<Vec2> dart = {Vec2(0, 0), Vec2(4, 0), Vec2(1, 1), Vec2(0, 4)};
+  EXPECT_EQ(PolygonProblem(dart, false), std::nullopt) << "simple, only not convex";
+  EXPECT_EQ(PolygonProblem(dart, true), "is not convex: it turns the other way at point 3");
+  EXPECT_EQ(PolygonProblem({Vec2(0, 0), Vec2(1, 0)}, false), "needs at least 3 points, got 2");
+  EXPECT_EQ(PolygonProblem({Vec2(0, 0), Vec2(0, 0), Vec2(1, 1)}, false),
+            "has coincident points 1 and 2");
+  EXPECT_EQ(PolygonProblem({Vec2(0, 0), Vec2(1, 0), Vec2(2, 0)}, false), "encloses no area");
+}
+
 }  // namespace
 }  // namespace pg

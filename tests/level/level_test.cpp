@@ -379,26 +379,26 @@ TEST(LevelErrors, SizeKeysMustFitTheShape) {
 TEST(LevelErrors, PrismOutlines) {
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"convex_prism\"\n"
                     "points = [[0, 0], [1, 0]]\npos = [5, 5]\n"),
-            "inline.toml:4:10: points of a convex_prism needs at least 3 points, got 2");
+            "inline.toml:4:10: object 'a': points needs at least 3 points, got 2");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"convex_prism\"\n"
                     "points = [[0, 0], [4, 0], [1, 1], [0, 4]]\npos = [5, 5]\n"),
-            "inline.toml:4:10: points of a convex_prism is not convex: it turns the other way at "
+            "inline.toml:4:10: object 'a': points is not convex: it turns the other way at "
             "point 3");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\n"
                     "points = [[0, 0], [4, 0], [0, 4], [4, 4]]\npos = [5, 5]\n"),
-            "inline.toml:4:10: points of a concave_prism is not a simple polygon: edge 2-3 meets "
+            "inline.toml:4:10: object 'a': points is not a simple polygon: edge 2-3 meets "
             "edge 4-1");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\n"
                     "points = [[0, 0], [2, 0], [4, 0]]\npos = [5, 5]\n"),
-            "inline.toml:4:10: points of a concave_prism encloses no area");
+            "inline.toml:4:10: object 'a': points encloses no area");
   // a vertex touching a non-neighbouring edge makes it not simple either
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\n"
                     "points = [[0, 0], [4, 0], [2, 0], [2, 2]]\npos = [5, 5]\n"),
-            "inline.toml:4:10: points of a concave_prism is not a simple polygon: edge 1-2 meets "
+            "inline.toml:4:10: object 'a': points is not a simple polygon: edge 1-2 meets "
             "edge 3-4");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"convex_prism\"\n"
                     "points = [[0, 0], [0, 0], [4, 0], [0, 4]]\npos = [5, 5]\n"),
-            "inline.toml:4:10: points of a convex_prism has coincident points 1 and 2");
+            "inline.toml:4:10: object 'a': points has coincident points 1 and 2");
   // a concave L is fine as a concave prism, either winding
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"concave_prism\"\npos = [5, 5]\n"
                     "points = [[0, 0], [0, 4], [1, 4], [1, 1], [3, 1], [3, 0]]\n"),
@@ -428,7 +428,7 @@ TEST(LevelErrors, DuplicateNames) {
 TEST(LevelErrors, ObjectConsistency) {
   EXPECT_EQ(
       ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\ntable_kinetic = 0.6\npos = [5, 5]\n"),
-      "inline.toml:4:17: table_kinetic (0.6) must not exceed table_static (0.4)");
+      "inline.toml:4:17: object 'a': table_kinetic must be <= table_static (0.6 > 0.4)");
   EXPECT_EQ(
       ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\nmass = 5\ndensity = 1\npos = [5, 5]\n"),
       "inline.toml:5:1: give either mass or density, not both");

@@ -241,7 +241,9 @@ TEST(Validate, ErrorsNameObjectFieldAndPlace) {
   ObjectSpec bow = Prism({Vec2(0, 0), Vec2(2, 2), Vec2(2, 0), Vec2(0, 2)}, 1, true);
   s = ValidateObject(bow, p);
   ASSERT_TRUE(s.has_value());
-  EXPECT_EQ(s->Format(), "levels/t.toml:7:3: object 'thing': points outline crosses itself");
+  EXPECT_EQ(s->Format(),
+            "levels/t.toml:7:3: object 'thing': points is not a simple polygon: edge 1-2 meets "
+            "edge 3-4");
 
   ObjectSpec l = Prism(LShape(), 1, false);
   s = ValidateObject(l, p);
@@ -253,7 +255,7 @@ TEST(Validate, ErrorsNameObjectFieldAndPlace) {
   ObjectSpec two = Prism({Vec2(0, 0), Vec2(1, 0)}, 1, false);
   s = ValidateObject(two, p);
   ASSERT_TRUE(s.has_value());
-  EXPECT_NE(s->message.find("points needs at least 3 points (got 2)"), std::string::npos);
+  EXPECT_NE(s->message.find("points needs at least 3 points, got 2"), std::string::npos);
 
   ObjectSpec sph = Shape(ObjectShape::kSphere);
   sph.radius = 1;
@@ -263,6 +265,29 @@ TEST(Validate, ErrorsNameObjectFieldAndPlace) {
   EXPECT_NE(s->message.find("density must be > 0 (got 0)"), std::string::npos);
   sph.mass = 10;  // a mass makes the density irrelevant
   EXPECT_FALSE(ValidateObject(sph, p).has_value());
+}
+
+TEST(Footprint, BoundsOnTheTableFollowThePose) {
+  // a 4 x 2 box turned a quarter turn about (10, 10): 2 wide along x, 4 along y
+  ObjectSpec box = Shape(ObjectShape::kBox);
+  box.sizeX = 4;
+  box.sizeY = 2;
+  box.height = 1;
+  box.pose = Pose2{Vec2(10, 10), kPi / 2};
+  const auto [low, high] = FootprintBounds(box);
+  EXPECT_NEAR(low.x(), 9.0, 1e-12);
+  EXPECT_NEAR(low.y(), 8.0, 1e-12);
+  EXPECT_NEAR(high.x(), 11.0, 1e-12);
+  EXPECT_NEAR(high.y(), 12.0, 1e-12);
+  // a frustum standing on its narrow end overhangs with its wide top
+  ObjectSpec cup = Shape(ObjectShape::kFrustum);
+  cup.radius = 1;
+  cup.topRadius = 2;
+  cup.height = 3;
+  cup.pose = Pose2{Vec2(5, 6), 0.3};
+  const auto [cupLow, cupHigh] = FootprintBounds(cup);
+  EXPECT_NEAR(cupLow.x(), 3.0, 1e-12);
+  EXPECT_NEAR(cupHigh.y(), 8.0, 1e-12);
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace pg {
@@ -78,6 +80,12 @@ double SignedDistance(const Contour& poly, const Vec2& p);
 /// Symmetric Hausdorff distance between two closed polylines, measured from every vertex of each to
 /// the boundary (edges) of the other.
 double HausdorffDistance(const Contour& a, const Contour& b);
+
+/// What makes a closed polygon unusable as an outline, or nullopt when nothing does: fewer than 3
+/// points, coincident neighbours, edges that touch or cross (not a simple polygon), no area, or,
+/// when convex is asked, a turn the other way. Points are numbered from 1 in the text ("is not
+/// convex: it turns the other way at point 3").
+std::optional<std::string> PolygonProblem(const std::vector<Vec2>& points, bool convex);
 
 /// Builds a Contour from a list of points.
 Contour ToContour(const std::vector<Vec2>& points);

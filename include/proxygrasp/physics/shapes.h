@@ -8,6 +8,8 @@
 #include "proxygrasp/core/geometry.h"
 #include "proxygrasp/physics/types.h"
 
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace pg {
@@ -29,8 +31,14 @@ struct CrossSection {
 };
 
 /// Checks an object spec against the physics parameters. Errors sit at spec.loc and name the
-/// object and the field: "object 'cup': radius must be > 0 (got -1)".
-Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params);
+/// object and the field: "object 'cup': radius must be > 0 (got -1)"; field, when given,
+/// receives the field's key ("radius"), so that a level file can point at it.
+Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params,
+                      std::string* field = nullptr);
+
+/// The axis-aligned bounds (low, high corners) of the object's footprint on the table at its
+/// starting pose, cm.
+std::pair<Vec2, Vec2> FootprintBounds(const ObjectSpec& spec);
 
 /// The object's height (2r for spheres), cm.
 double ObjectHeight(const ObjectSpec& spec);
