@@ -141,9 +141,21 @@ std::optional<Vec2> AsVec(const toml::node& n) {
   return Vec2(*x, *y);
 }
 
-// " (did you mean 'x'?)" for a near miss, or for a known key the name is the start of
-// ("angle" -> "angle_deg")
+// keys of earlier versions of the format and the keys that replaced them
+constexpr std::pair<const char*, const char*> kRenamedKeys[] = {
+    {"angle_deg", "angle"},                                // goals
+    {"tolerance_deg", "tolerance"}, {"min_deg", "above"},  // rotation expectations
+    {"max_deg", "below"},           {"value", "held"},     // held expectations
+};
+
+// " (did you mean 'x'?)" for a renamed key, a near miss, or a known key the name is the start of
+// ("angle" -> "angle_x")
 std::string Hint(std::string_view name, const std::vector<std::string>& known) {
+  for (const auto& [old, now] : kRenamedKeys) {
+    if (name == old && std::find(known.begin(), known.end(), now) != known.end()) {
+      return " (did you mean '" + std::string(now) + "'? '" + std::string(old) + "' was renamed)";
+    }
+  }
   const std::string close = DidYouMean(name, known);
   if (!close.empty()) return close;
   for (const std::string& k : known) {
@@ -871,7 +883,7 @@ class Loader {
         required = {"object"};
         break;
       case ExpectKind::kRotation:
-        known.insert(known.end(), {"object", "min_deg", "max_deg"});
+        known.insert(known.end(), {"object", "above", "below"});
         required = {"object"};
         break;
       case ExpectKind::kDisplacement:
@@ -879,7 +891,7 @@ class Loader {
         required = {"object"};
         break;
       case ExpectKind::kHeld:
-        known.insert(known.end(), {"object", "value"});
+        known.insert(known.end(), {"object", "held"});
         required = {"object"};
         break;
       case ExpectKind::kResting:
@@ -893,7 +905,7 @@ class Loader {
     // types and ranges
     double at = 0.0;
     ProxyMode mode = ProxyMode::kPersistent;
-    double minDeg = 0.0, maxDeg = 0.0;
+    double aboveDeg = 0.0, belowDeg = 0.0;
     TableReader reader(t, "");
     reader.Real("at", at, 0, 3600, "s", "");
     VisitEnum(reader, "mode", mode, kProxyModeNames, "");
@@ -902,11 +914,14 @@ class Loader {
     reader.Text("object", e.object, "");
     reader.Text("contact", e.contact, "");
     reader.Text("on", e.on, "");
-    reader.Real("min_deg", minDeg, -36000, 36000, "deg", "");
-    reader.Real("max_deg", maxDeg, -36000, 36000, "deg", "");
-    reader.Real("above", e.above, 0, 10000, "cm", "");
-    reader.Real("below", e.below, 0, 10000, "cm", "");
-    reader.Boolean("value", e.held, "");
+    if (e.kind == ExpectKind::kRotation) {
+      reader.Real("above", aboveDeg, -36000, 36000, "deg", "");
+      reader.Real("below", belowDeg, -36000, 36000, "deg", "");
+    } else {
+      reader.Real("above", e.above, 0, 10000, "cm", "");
+      reader.Real("below", e.below, 0, 10000, "cm", "");
+    }
+    reader.Boolean("held", e.held, "");
     reader.Real("fraction", e.fraction, 0.01, 1, "", "");
     Errors errors = reader.errors;
     UnknownKeys(t, known, " in " + what, errors);
@@ -915,8 +930,8 @@ class Loader {
     if (Status s = Earliest(errors, missing)) return s;
     if (t.contains("at")) e.at = at;
     if (t.contains("mode")) e.mode = mode;
-    if (t.contains("min_deg")) e.minAngle = DegToRad(minDeg);
-    if (t.contains("max_deg")) e.maxAngle = DegToRad(maxDeg);
+    if (e.kind == ExpectKind::kRotation && t.contains("above")) e.minAngle = DegToRad(aboveDeg);
+    if (e.kind == ExpectKind::kRotation && t.contains("below")) e.maxAngle = DegToRad(belowDeg);
 
     // kind-specific meaning
     switch (e.kind) {
@@ -927,13 +942,13 @@ class Loader {
         break;
       }
       case ExpectKind::kRotation:
-        if (!t.contains("min_deg") && !t.contains("max_deg")) {
-          return MakeError(e.loc, what + " needs min_deg, max_deg or both");
+        if (!t.contains("above") && !t.contains("below")) {
+          return MakeError(e.loc, what + " needs above, below or both");
         }
-        if (t.contains("min_deg") && t.contains("max_deg") && minDeg > maxDeg) {
-          return MakeError(ValueLoc(t, "max_deg"), "max_deg (" + FormatDouble(maxDeg) +
-                                                       ") must not be below min_deg (" +
-                                                       FormatDouble(minDeg) + ")");
+        if (t.contains("above") && t.contains("below") && aboveDeg > belowDeg) {
+          return MakeError(ValueLoc(t, "below"), "below (" + FormatDouble(belowDeg) +
+                                                     " deg) must not be less than above (" +
+                                                     FormatDouble(aboveDeg) + " deg)");
         }
         break;
       case ExpectKind::kDisplacement:
@@ -1005,8 +1020,8 @@ class Loader {
       TableReader reader(*t, "");
       reader.Text("object", g.object, "");
       reader.Text("label", g.label, "");
-      reader.Real("angle_deg", angleDeg, -360, 360, "deg", "");
-      reader.Real("tolerance_deg", toleranceDeg, 0, 180, "deg", "");
+      reader.Real("angle", angleDeg, -360, 360, "deg", "");
+      reader.Real("tolerance", toleranceDeg, 0, 180, "deg", "");
       reader.known.insert(reader.known.end(), {"min", "max", "center", "radius"});
       Errors errors = reader.errors;
       UnknownKeys(*t, reader.known, " in a goal", errors);
@@ -1014,15 +1029,14 @@ class Loader {
       Missing(*t, "object", "goal", missing);
       if (Status s = Earliest(errors, missing)) return s;
       if (Status s = ReadRegion(*t, false, "a goal", g.zone)) return s;
-      if (t->contains("angle_deg")) g.angle = DegToRad(angleDeg);
-      if (t->contains("tolerance_deg") && !g.angle) {
-        return MakeError(KeyLoc(*t, "tolerance_deg"), "tolerance_deg needs angle_deg");
+      if (t->contains("angle")) g.angle = DegToRad(angleDeg);
+      if (t->contains("tolerance") && !g.angle) {
+        return MakeError(KeyLoc(*t, "tolerance"), "tolerance needs angle");
       }
       g.tolerance = DegToRad(toleranceDeg);
       if (!g.zone && !g.angle) {
         return MakeError(g.loc,
-                         "a goal needs a zone (min and max, or center and radius), angle_deg or "
-                         "both");
+                         "a goal needs a zone (min and max, or center and radius), angle or both");
       }
       if (Status s = CheckObjectName(*t, "object", g.object, level, false)) return s;
       level.goals.push_back(std::move(g));

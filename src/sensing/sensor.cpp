@@ -227,7 +227,7 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   // closing: holes are ignored anyway, and closing would fill finger crotches and join fingers)
   cv::subtract(frame, m_background, m_normalized);
   double level = m_params.threshold;
-  if (m_params.thresholdMode == ThresholdMode::kOtsu) {
+  if (m_params.thresholdMode == ThresholdMode::kAuto) {
     cv::Mat scratch;
     level =
         std::max(cv::threshold(m_normalized, scratch, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU),

@@ -227,14 +227,24 @@ TEST(LevelErrors, UnknownScriptContactAndKeyframeKeys) {
 
 TEST(LevelErrors, UnknownExpectationGoalAndVariantKeys) {
   EXPECT_EQ(
-      ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"held\"\nobject = \"box\"\nvalu = true\n"),
-      "inline.toml:9:1: unknown key 'valu' in a held expectation (did you mean 'value'?)");
+      ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"held\"\nobject = \"box\"\nhel = true\n"),
+      "inline.toml:9:1: unknown key 'hel' in a held expectation (did you mean 'held'?)");
+  // keys of earlier versions of the format name their new names
+  EXPECT_EQ(
+      ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"held\"\nobject = \"box\"\nvalue = true\n"),
+      "inline.toml:9:1: unknown key 'value' in a held expectation (did you mean 'held'? 'value' "
+      "was renamed)");
+  EXPECT_EQ(ErrorOf(std::string(kBox) +
+                    "[[expect]]\nkind = \"rotation\"\nobject = \"box\"\nmin_deg = 10\n"),
+            "inline.toml:9:1: unknown key 'min_deg' in a rotation expectation (did you mean "
+            "'above'? 'min_deg' was renamed)");
   // a key of another kind is unknown in this one
   EXPECT_EQ(
       ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"held\"\nobject = \"box\"\nabove = 1\n"),
       "inline.toml:9:1: unknown key 'above' in a held expectation");
-  EXPECT_EQ(ErrorOf(std::string(kBox) + "[[goals]]\nobject = \"box\"\nangle = 90\n"),
-            "inline.toml:8:1: unknown key 'angle' in a goal (did you mean 'angle_deg'?)");
+  EXPECT_EQ(ErrorOf(std::string(kBox) + "[[goals]]\nobject = \"box\"\nangle_deg = 90\n"),
+            "inline.toml:8:1: unknown key 'angle_deg' in a goal (did you mean 'angle'? 'angle_deg' "
+            "was renamed)");
   EXPECT_EQ(ErrorOf("[[variants]]\nname = \"v\"\n[variants.physics]\nlayer = 2\n"),
             "inline.toml:4:1: unknown key 'layer' in [variants.physics] (did you mean 'layers'?)");
   EXPECT_EQ(ErrorOf("[[variants]]\nname = \"v\"\n[variants.physic]\nlayers = 2\n"),
@@ -336,8 +346,8 @@ TEST(LevelErrors, MissingRequiredFields) {
   EXPECT_EQ(ErrorOf("[[variants]]\n[variants.physics]\nlayers = 2\n"),
             "inline.toml:1:1: variant is missing required key 'name'");
   EXPECT_EQ(ErrorOf(std::string(kBox) + "[[goals]]\nobject = \"box\"\n"),
-            "inline.toml:6:1: a goal needs a zone (min and max, or center and radius), angle_deg "
-            "or both");
+            "inline.toml:6:1: a goal needs a zone (min and max, or center and radius), angle or "
+            "both");
 }
 
 // ---- keyframes ----
@@ -459,7 +469,7 @@ TEST(LevelErrors, ObjectConsistency) {
 TEST(LevelErrors, NamesMustExist) {
   EXPECT_EQ(ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"held\"\nobject = \"bx\"\n"),
             "inline.toml:8:10: unknown object 'bx' (did you mean 'box'?)");
-  EXPECT_EQ(ErrorOf(std::string(kBox) + "[[goals]]\nobject = \"ball\"\nangle_deg = 30\n"),
+  EXPECT_EQ(ErrorOf(std::string(kBox) + "[[goals]]\nobject = \"ball\"\nangle = 30\n"),
             "inline.toml:7:10: unknown object 'ball'");
   const std::string finger =
       "[[script.contacts]]\nname = \"finger\"\nshape = \"circle\"\n"
@@ -486,11 +496,10 @@ TEST(LevelErrors, ExpectationTimesAndBounds) {
               "[[expect]]\nkind = \"resting\"\ncontact = \"finger\"\non = \"box\"\nat = 0.5\n"),
       "inline.toml:14:6: at = 0.5 s is outside contact 'finger', which exists from 1 s to 2 s");
   EXPECT_EQ(ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"rotation\"\nobject = \"box\"\n"),
-            "inline.toml:6:1: a rotation expectation needs min_deg, max_deg or both");
-  EXPECT_EQ(
-      ErrorOf(std::string(kBox) +
-              "[[expect]]\nkind = \"rotation\"\nobject = \"box\"\nmin_deg = 10\nmax_deg = 5\n"),
-      "inline.toml:10:11: max_deg (5) must not be below min_deg (10)");
+            "inline.toml:6:1: a rotation expectation needs above, below or both");
+  EXPECT_EQ(ErrorOf(std::string(kBox) +
+                    "[[expect]]\nkind = \"rotation\"\nobject = \"box\"\nabove = 10\nbelow = 5\n"),
+            "inline.toml:10:9: below (5 deg) must not be less than above (10 deg)");
   EXPECT_EQ(
       ErrorOf(std::string(kBox) +
               "[[expect]]\nkind = \"displacement\"\nobject = \"box\"\nabove = 3\nbelow = 2\n"),
@@ -504,10 +513,9 @@ TEST(LevelErrors, ExpectationTimesAndBounds) {
   EXPECT_EQ(ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"wobble\"\n"),
             "inline.toml:7:8: kind 'wobble' is not one of: position, rotation, displacement, "
             "held, resting");
-  EXPECT_EQ(
-      ErrorOf(std::string(kBox) +
-              "[[goals]]\nobject = \"box\"\ncenter = [3, 3]\nradius = 2\ntolerance_deg = 4\n"),
-      "inline.toml:10:1: tolerance_deg needs angle_deg");
+  EXPECT_EQ(ErrorOf(std::string(kBox) +
+                    "[[goals]]\nobject = \"box\"\ncenter = [3, 3]\nradius = 2\ntolerance = 4\n"),
+            "inline.toml:10:1: tolerance needs angle");
 }
 
 TEST(LevelErrors, FirstErrorInTheFileWins) {
@@ -605,7 +613,7 @@ TEST(Level, NothingIsHalfLoaded) {
   const Result<Level> first = ParseLevel(good, "inline.toml");
   ASSERT_TRUE(first.ok());
   const Result<Level> bad =
-      ParseLevel(good + "[[goals]]\nobject = \"nope\"\nangle_deg = 3\n", "inline.toml");
+      ParseLevel(good + "[[goals]]\nobject = \"nope\"\nangle = 3\n", "inline.toml");
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.error().Format(), "inline.toml:9:10: unknown object 'nope'");
   const Result<Level> again = ParseLevel(good, "inline.toml");

@@ -36,7 +36,7 @@ duration = 1
 [[expect]]
 kind = "held"
 object = "box"
-value = false
+held = false
 at = 0.05
 
 [[expect]]

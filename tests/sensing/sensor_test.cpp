@@ -133,7 +133,7 @@ TEST(Sensor, EmptyTableHasNoPhantoms) {
   // noise, vignetting, gradient and distortion on, for every background strategy and both
   // threshold modes: 20 frames each must hold no contact at all
   for (int strategy = 0; strategy < 3; ++strategy) {
-    for (ThresholdMode mode : {ThresholdMode::kFixed, ThresholdMode::kOtsu}) {
+    for (ThresholdMode mode : {ThresholdMode::kFixed, ThresholdMode::kAuto}) {
       SensingParams sp;
       sp.thresholdMode = mode;
       sp.backgroundFrames = strategy == 1 ? 4 : 0;
@@ -345,7 +345,7 @@ TEST(Sensor, BackgroundCapturedFromFirstFrames) {
 
 TEST(Sensor, AutomaticThresholdFindsContacts) {
   SensingParams sp;
-  sp.thresholdMode = ThresholdMode::kOtsu;
+  sp.thresholdMode = ThresholdMode::kAuto;
   Rig rig(HardCamera(), sp);
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   const ContactShape shapes[] = {Circle({20.0, 20.0}, 1.0),

@@ -61,7 +61,10 @@ struct SyntheticCameraParams {
 };
 
 /// Threshold modes.
-enum class ThresholdMode { kFixed, kOtsu };
+enum class ThresholdMode {
+  kFixed,  ///< the fixed `threshold`
+  kAuto,   ///< Otsu's method on each frame, never below `auto_floor`
+};
 inline constexpr const char* kThresholdModeNames[] = {"fixed", "auto"};
 
 /// Parameters of preprocessing and contour extraction. Section [sensing] of a level.
