@@ -6,8 +6,8 @@
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/physics/shapes.h"
+#include "proxygrasp/sensing/recorder.h"
 
-#include <opencv2/videoio.hpp>
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -649,20 +649,12 @@ class Loader {
                        "recording '" + script.recording + "' not found (looked for " + path + ")");
     }
     // count the frames: the default duration, and a check that the file is a readable video
-    // (FFmpeg only, as recordings are FFV1: probing every backend on a broken file would also try
-    // camera libraries)
-    cv::VideoCapture video;
-    try {
-      video.open(path, cv::CAP_FFMPEG);
-    } catch (const cv::Exception&) {
-      video.release();
-    }
-    if (!video.isOpened()) {
+    Result<int64_t> counted = CountRecordingFrames(path);
+    if (!counted.ok()) {
       return MakeError(
           at, "recording '" + script.recording + "' cannot be read as a video (" + path + ")");
     }
-    int64_t frames = 0;
-    while (video.grab()) ++frames;
+    const int64_t frames = counted.value();
     if (frames == 0) return MakeError(at, "recording '" + script.recording + "' holds no frames");
     script.recording = path;
     script.recordingFrames = frames;

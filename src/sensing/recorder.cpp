@@ -38,4 +38,17 @@ void FrameRecorder::Close() {
   if (m_writer.isOpened()) m_writer.release();
 }
 
+Result<int64_t> CountRecordingFrames(const std::string& path) {
+  cv::VideoCapture video;
+  try {
+    video.open(path, cv::CAP_FFMPEG);
+  } catch (const cv::Exception&) {
+    video.release();
+  }
+  if (!video.isOpened()) return MakeError({path}, "cannot be read as a video");
+  int64_t frames = 0;
+  while (video.grab()) ++frames;
+  return frames;
+}
+
 }  // namespace pg

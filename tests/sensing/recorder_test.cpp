@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <filesystem>
+#include <fstream>
 
 namespace pg {
 namespace {
@@ -45,6 +46,19 @@ TEST(Recorder, ReplaysBitForBit) {
   }
   cv::Mat end;
   EXPECT_EQ(source.value()->Read(end), FrameStatus::kEnd);
+  // the level loader counts a recording's frames before it replays it
+  const Result<int64_t> counted = CountRecordingFrames(path);
+  ASSERT_TRUE(counted.ok()) << counted.error().Format();
+  EXPECT_EQ(counted.value(), 5);
+  std::filesystem::remove(path);
+}
+
+TEST(Recorder, CountingFramesOfWhatIsNoVideoIsAnErrorNamingIt) {
+  const std::string path = TempPath("pg_recorder_not_a_video.mkv");
+  std::ofstream(path) << "not a video";
+  const Result<int64_t> counted = CountRecordingFrames(path);
+  ASSERT_FALSE(counted.ok());
+  EXPECT_THAT(counted.error().Format(), ::testing::HasSubstr(path));
   std::filesystem::remove(path);
 }
 

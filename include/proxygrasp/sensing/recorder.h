@@ -12,6 +12,11 @@
 
 namespace pg {
 
+/// The frames a recording holds, counted by decoding it (FFmpeg only, as recordings are FFV1:
+/// probing every backend on a broken file would also try camera libraries). A file that is not
+/// a readable video is an Error naming it.
+Result<int64_t> CountRecordingFrames(const std::string& path);
+
 /// Writes 8-bit grey frames of one size to a lossless video file.
 class FrameRecorder {
  public:
