@@ -1,0 +1,92 @@
+// The level loader: reads a level's TOML files (includes merged into one tree whose nodes keep
+// their file:line:col), checks every key against the code's descriptions and builds the Level.
+// The first error in processing order is returned; within one table the earliest in the file
+// wins. Its steps live in loader.cpp (files, includes, errors, parameters and variants),
+// read_objects.cpp, read_script.cpp and read_checks.cpp (expectations and goals). Private to the
+// level module.
+#pragma once
+
+#include "toml_reader.h"
+
+#include "proxygrasp/level/level.h"
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <vector>
+
+namespace pg::levelfile {
+
+/// One loader per LoadLevel or ParseLevel call.
+class Loader {
+ public:
+  Result<Level> Load(const std::string& path, std::optional<std::string_view> text);
+
+ private:
+  Status ReadTree(const std::string& path, std::optional<std::string_view> text,
+                  const SourceLoc& from, std::vector<std::string>& chain, toml::table& out);
+
+  // moves over's keys into base: tables merge key by key, the level's arrays of tables append,
+  // anything else replaces; depth 0 is the root, depth 1 a table directly under it
+  static void Merge(toml::table& base, toml::table& over, int depth, bool inScript = false);
+
+  // the rank of a location: included files before the files that include them, then line, col
+  std::tuple<int, int, int> Rank(const SourceLoc& loc) const;
+
+  // the earliest error at a key or value; only when there is none, the earliest missing key, so
+  // a mistake the user wrote is reported before one they left out
+  Status Earliest(const Errors& errors, const Errors& missing = {}) const;
+
+  static void UnknownKeys(const toml::table& t, const std::vector<std::string>& known,
+                          const std::string& where, Errors& errors);
+
+  static void Missing(const toml::table& t, const char* key, const std::string& what,
+                      Errors& errors);
+
+  static SourceLoc KeyLoc(const toml::table& t, std::string_view key);
+
+  static SourceLoc ValueLoc(const toml::table& t, std::string_view key);
+
+  // the tables of an array of tables, or an error naming the expected form
+  static Status TablesOf(const toml::node& n, const std::string& key,
+                         std::vector<const toml::table*>& tables);
+
+  Status Build(const toml::table& root, Level& level);
+
+  // the parameter tables of `root` (the level, or a variant) applied to params
+  Status ReadParams(const toml::table& root, const std::string& prefix, LevelParams& params);
+
+  Status BuildObjects(const toml::table& root, Level& level);
+
+  Status ReadObject(const toml::table& t, const Level& level, ObjectSpec& o);
+
+  Status BuildScript(const toml::table& root, Level& level);
+
+  // [script] recording: a video file, relative to the level file that names it, that exists and
+  // holds frames; it replaces the contacts
+  static Status ReadRecording(const toml::table& t, Level& level);
+
+  Status ReadContact(const toml::table& t, const Script& script, ScriptContact& contact);
+
+  Status BuildVariants(const toml::table& root, Level& level);
+
+  // reads an optional region: min + max, or center + radius
+  static Status ReadRegion(const toml::table& t, bool required, const std::string& what,
+                           std::optional<Region>& region);
+
+  Status CheckObjectName(const toml::table& t, const char* key, const std::string& name,
+                         const Level& level, bool allowTable);
+
+  Status BuildExpectations(const toml::table& root, Level& level);
+
+  Status ReadExpectation(const toml::table& t, const Level& level, Expectation& e);
+
+  Status BuildGoals(const toml::table& root, Level& level);
+
+  std::vector<std::string> m_files;  // files read, each after the files it includes
+
+  std::vector<std::string> m_chainIds;  // canonical paths of the include chain
+};
+
+}  // namespace pg::levelfile

@@ -1,0 +1,264 @@
+// Loader: [[expect]] (expectations the runner checks) and [[goals]] (targets drawn in play).
+#include "loader.h"
+
+#include "proxygrasp/core/text.h"
+#include "proxygrasp/core/units.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+namespace pg::levelfile {
+
+namespace fs = std::filesystem;
+
+// reads an optional region: min + max, or center + radius
+Status Loader::ReadRegion(const toml::table& t, bool required, const std::string& what,
+                          std::optional<Region>& region) {
+  const bool rect = t.contains("min") || t.contains("max");
+  const bool circle = t.contains("center") || t.contains("radius");
+  if (rect && circle) {
+    return MakeError(KeyLoc(t, t.contains("center") ? "center" : "radius"),
+                     "give a region as min and max, or as center and radius, not both");
+  }
+  if (!rect && !circle) {
+    if (!required) return std::nullopt;
+    return MakeError(Loc(t.source()), what + " needs a region: min and max, or center and radius");
+  }
+  Region r;
+  TableReader reader(t, "");
+  Errors errors;
+  Errors missing;
+  if (rect) {
+    r.kind = Region::Kind::kRect;
+    reader.Vector("min", r.min, -1000, 1000, "cm", "");
+    reader.Vector("max", r.max, -1000, 1000, "cm", "");
+    errors = reader.errors;
+    Missing(t, "min", what, missing);
+    Missing(t, "max", what, missing);
+  } else {
+    r.kind = Region::Kind::kCircle;
+    reader.Vector("center", r.center, -1000, 1000, "cm", "");
+    reader.Real("radius", r.radius, 0.001, 1000, "cm", "");
+    errors = reader.errors;
+    Missing(t, "center", what, missing);
+    Missing(t, "radius", what, missing);
+  }
+  if (!errors.empty()) {
+    // the earliest in the file
+    return *std::min_element(errors.begin(), errors.end(), [](const Error& a, const Error& b) {
+      return std::tie(a.loc.line, a.loc.col) < std::tie(b.loc.line, b.loc.col);
+    });
+  }
+  if (!missing.empty()) return missing.front();
+  if (rect && !(r.min.x() < r.max.x() && r.min.y() < r.max.y())) {
+    return MakeError(ValueLoc(t, "max"), "max " + VecText(r.max) + " must be above min " +
+                                             VecText(r.min) + " in both x and y");
+  }
+  region = r;
+  return std::nullopt;
+}
+
+Status Loader::CheckObjectName(const toml::table& t, const char* key, const std::string& name,
+                               const Level& level, bool allowTable) {
+  if (allowTable && name == "table") return std::nullopt;
+  if (level.FindObject(name)) return std::nullopt;
+  std::vector<std::string> names;
+  for (const ObjectSpec& o : level.objects) names.push_back(o.name);
+  if (allowTable) names.emplace_back("table");
+  return MakeError(ValueLoc(t, key), "unknown object '" + name + "'" + DidYouMean(name, names));
+}
+
+Status Loader::BuildExpectations(const toml::table& root, Level& level) {
+  const toml::node* node = root.get("expect");
+  if (!node) return std::nullopt;
+  std::vector<const toml::table*> tables;
+  if (Status s = TablesOf(*node, "expect", tables)) return s;
+  for (const toml::table* t : tables) {
+    Expectation e;
+    if (Status s = ReadExpectation(*t, level, e)) return s;
+    level.expectations.push_back(std::move(e));
+  }
+  return std::nullopt;
+}
+
+Status Loader::ReadExpectation(const toml::table& t, const Level& level, Expectation& e) {
+  e.loc = Loc(t.source());
+  // the kind decides which keys belong
+  const toml::node* kindNode = t.get("kind");
+  if (!kindNode) return MakeError(e.loc, "expectation is missing required key 'kind'");
+  {
+    TableReader reader(t, "");
+    VisitEnum(reader, "kind", e.kind, kExpectKindNames, "");
+    if (!reader.errors.empty()) return reader.errors.front();
+  }
+  std::vector<std::string> known = {"kind", "at", "mode", "variant", "label"};
+  std::vector<std::string> required;
+  switch (e.kind) {
+    case ExpectKind::kPosition:
+      known.insert(known.end(), {"object", "min", "max", "center", "radius"});
+      required = {"object"};
+      break;
+    case ExpectKind::kRotation:
+      known.insert(known.end(), {"object", "above", "below"});
+      required = {"object"};
+      break;
+    case ExpectKind::kDisplacement:
+      known.insert(known.end(), {"object", "above", "below"});
+      required = {"object"};
+      break;
+    case ExpectKind::kHeld:
+      known.insert(known.end(), {"object", "held"});
+      required = {"object"};
+      break;
+    case ExpectKind::kResting:
+      known.insert(known.end(), {"contact", "on", "fraction"});
+      required = {"contact", "on"};
+      break;
+  }
+  const std::string kindName = kExpectKindNames[static_cast<int>(e.kind)];
+  const std::string what = "a " + kindName + " expectation";
+
+  // types and ranges
+  double at = 0.0;
+  ProxyMode mode = ProxyMode::kPersistent;
+  double aboveDeg = 0.0, belowDeg = 0.0;
+  TableReader reader(t, "");
+  reader.Real("at", at, 0, 3600, "s", "");
+  VisitEnum(reader, "mode", mode, kProxyModeNames, "");
+  reader.Text("variant", e.variant, "");
+  reader.Text("label", e.label, "");
+  reader.Text("object", e.object, "");
+  reader.Text("contact", e.contact, "");
+  reader.Text("on", e.on, "");
+  if (e.kind == ExpectKind::kRotation) {
+    reader.Real("above", aboveDeg, -36000, 36000, "deg", "");
+    reader.Real("below", belowDeg, -36000, 36000, "deg", "");
+  } else {
+    reader.Real("above", e.above, 0, 10000, "cm", "");
+    reader.Real("below", e.below, 0, 10000, "cm", "");
+  }
+  reader.Boolean("held", e.held, "");
+  reader.Real("fraction", e.fraction, 0.01, 1, "", "");
+  Errors errors = reader.errors;
+  UnknownKeys(t, known, " in " + what, errors);
+  Errors missing;
+  for (const std::string& key : required) Missing(t, key.c_str(), what, missing);
+  if (Status s = Earliest(errors, missing)) return s;
+  if (t.contains("at")) e.at = at;
+  if (t.contains("mode")) e.mode = mode;
+  if (e.kind == ExpectKind::kRotation && t.contains("above")) e.minAngle = DegToRad(aboveDeg);
+  if (e.kind == ExpectKind::kRotation && t.contains("below")) e.maxAngle = DegToRad(belowDeg);
+
+  // kind-specific meaning
+  switch (e.kind) {
+    case ExpectKind::kPosition: {
+      std::optional<Region> region;
+      if (Status s = ReadRegion(t, true, what, region)) return s;
+      e.region = *region;
+      break;
+    }
+    case ExpectKind::kRotation:
+      if (!t.contains("above") && !t.contains("below")) {
+        return MakeError(e.loc, what + " needs above, below or both");
+      }
+      if (t.contains("above") && t.contains("below") && aboveDeg > belowDeg) {
+        return MakeError(ValueLoc(t, "below"), "below (" + FormatDouble(belowDeg) +
+                                                   " deg) must not be less than above (" +
+                                                   FormatDouble(aboveDeg) + " deg)");
+      }
+      break;
+    case ExpectKind::kDisplacement:
+      if (!t.contains("above") && !t.contains("below")) {
+        return MakeError(e.loc, what + " needs above, below or both");
+      }
+      if (t.contains("above") && t.contains("below") && e.above >= e.below) {
+        return MakeError(ValueLoc(t, "below"), "below (" + FormatDouble(e.below) +
+                                                   " cm) must be greater than above (" +
+                                                   FormatDouble(e.above) + " cm)");
+      }
+      break;
+    case ExpectKind::kHeld:
+      break;
+    case ExpectKind::kResting:
+      break;
+  }
+
+  // names refer to things the level defines
+  if (!e.object.empty()) {
+    if (Status s = CheckObjectName(t, "object", e.object, level, false)) return s;
+  }
+  if (e.kind == ExpectKind::kResting) {
+    if (Status s = CheckObjectName(t, "on", e.on, level, true)) return s;
+    const ScriptContact* contact = nullptr;
+    std::vector<std::string> names;
+    for (const ScriptContact& c : level.script.contacts) {
+      names.push_back(c.name);
+      if (c.name == e.contact) contact = &c;
+    }
+    if (!contact) {
+      return MakeError(ValueLoc(t, "contact"),
+                       "unknown contact '" + e.contact + "'" + DidYouMean(e.contact, names));
+    }
+    // particles exist only while the contact does: by default at its last keyframe
+    if (!e.at) {
+      e.at = contact->End();
+    } else if (*e.at < contact->Start() || *e.at > contact->End()) {
+      return MakeError(ValueLoc(t, "at"),
+                       "at = " + FormatDouble(*e.at) + " s is outside contact '" + contact->name +
+                           "', which exists from " + FormatDouble(contact->Start()) + " s to " +
+                           FormatDouble(contact->End()) + " s");
+    }
+  }
+  if (!e.variant.empty() && !level.FindVariant(e.variant)) {
+    std::vector<std::string> names;
+    for (const Variant& v : level.variants) names.push_back(v.name);
+    return MakeError(ValueLoc(t, "variant"),
+                     "unknown variant '" + e.variant + "'" + DidYouMean(e.variant, names));
+  }
+  if (e.at && *e.at > level.script.duration) {
+    return MakeError(ValueLoc(t, "at"), "at = " + FormatDouble(*e.at) +
+                                            " s is after the end of the level at " +
+                                            FormatDouble(level.script.duration) + " s");
+  }
+  return std::nullopt;
+}
+
+Status Loader::BuildGoals(const toml::table& root, Level& level) {
+  const toml::node* node = root.get("goals");
+  if (!node) return std::nullopt;
+  std::vector<const toml::table*> tables;
+  if (Status s = TablesOf(*node, "goals", tables)) return s;
+  for (const toml::table* t : tables) {
+    Goal g;
+    g.loc = Loc(t->source());
+    double angleDeg = 0.0;
+    double toleranceDeg = RadToDeg(g.tolerance);
+    TableReader reader(*t, "");
+    reader.Text("object", g.object, "");
+    reader.Text("label", g.label, "");
+    reader.Real("angle", angleDeg, -360, 360, "deg", "");
+    reader.Real("tolerance", toleranceDeg, 0, 180, "deg", "");
+    reader.known.insert(reader.known.end(), {"min", "max", "center", "radius"});
+    Errors errors = reader.errors;
+    UnknownKeys(*t, reader.known, " in a goal", errors);
+    Errors missing;
+    Missing(*t, "object", "goal", missing);
+    if (Status s = Earliest(errors, missing)) return s;
+    if (Status s = ReadRegion(*t, false, "a goal", g.zone)) return s;
+    if (t->contains("angle")) g.angle = DegToRad(angleDeg);
+    if (t->contains("tolerance") && !g.angle) {
+      return MakeError(KeyLoc(*t, "tolerance"), "tolerance needs angle");
+    }
+    g.tolerance = DegToRad(toleranceDeg);
+    if (!g.zone && !g.angle) {
+      return MakeError(g.loc,
+                       "a goal needs a zone (min and max, or center and radius), angle or both");
+    }
+    if (Status s = CheckObjectName(*t, "object", g.object, level, false)) return s;
+    level.goals.push_back(std::move(g));
+  }
+  return std::nullopt;
+}
+
+}  // namespace pg::levelfile

@@ -1,0 +1,84 @@
+// Loader: [[objects]], checked by the physics module (ValidateObject, FootprintBounds).
+#include "loader.h"
+
+#include "proxygrasp/core/text.h"
+#include "proxygrasp/physics/shapes.h"
+
+#include <filesystem>
+
+namespace pg::levelfile {
+
+namespace fs = std::filesystem;
+
+Status Loader::BuildObjects(const toml::table& root, Level& level) {
+  const toml::node* node = root.get("objects");
+  if (!node) return std::nullopt;
+  std::vector<const toml::table*> tables;
+  if (Status s = TablesOf(*node, "objects", tables)) return s;
+  for (const toml::table* t : tables) {
+    ObjectSpec o;
+    o.loc = Loc(t->source());
+    if (Status s = ReadObject(*t, level, o)) return s;
+    level.objects.push_back(std::move(o));
+  }
+  return std::nullopt;
+}
+
+Status Loader::ReadObject(const toml::table& t, const Level& level, ObjectSpec& o) {
+  // types and ranges of every key, then keys that do not fit the shape
+  TableReader reader(t, "");
+  DescribeObject(o, reader);
+  Errors errors = reader.errors;
+  UnknownKeys(t, reader.known, " in an object", errors);
+  Errors missing;
+  Missing(t, "name", "object", missing);
+  Missing(t, "shape", "object", missing);
+  Missing(t, "pos", "object", missing);
+  const std::string shapeName = kObjectShapeNames[static_cast<int>(o.shape)];
+  if (t.contains("shape") && !reader.bad.count("shape")) {
+    std::string fits;
+    for (const char* key : {"size_x", "size_y", "radius", "top_radius", "height", "points"}) {
+      if (ObjectKeyApplies(o.shape, key)) fits += (fits.empty() ? "" : ", ") + std::string(key);
+    }
+    for (auto&& [k, v] : t) {
+      if (ObjectKeyApplies(o.shape, k.str())) continue;
+      errors.push_back(MakeError(Loc(k.source()), "'" + std::string(k.str()) +
+                                                      "' does not apply to a " + shapeName +
+                                                      " (its size keys: " + fits + ")"));
+    }
+    if (ObjectKeyApplies(o.shape, "points") && !t.contains("points")) {
+      missing.push_back(
+          MakeError(Loc(t.source()), "a " + shapeName + " object needs 'points', its outline"));
+    }
+  }
+  if (Status s = Earliest(errors, missing)) return s;
+
+  // meaning: a unique name, a valid outline, consistent friction and mass, on the table
+  if (o.name.empty()) return MakeError(ValueLoc(t, "name"), "name must not be empty");
+  if (const ObjectSpec* first = level.FindObject(o.name)) {
+    return MakeError(ValueLoc(t, "name"), "duplicate object name '" + o.name +
+                                              "' (first defined at " + first->loc.Format() + ")");
+  }
+  if (t.contains("mass") && t.contains("density")) {
+    return MakeError(KeyLoc(t, "density"), "give either mass or density, not both");
+  }
+  // the physics module's own checks of the shape, mass and friction, at the key they are about
+  std::string field;
+  if (Status s = ValidateObject(o, level.params.physics, &field)) {
+    const bool atKey = t.contains(field);
+    return MakeError(atKey ? ValueLoc(t, field) : Loc(t.source()), s->message);
+  }
+  // the whole footprint, not just the centre, must be on the table
+  const TableParams& table = level.params.table;
+  const auto [low, high] = FootprintBounds(o);
+  if (low.x() < 0 || low.y() < 0 || high.x() > table.width || high.y() > table.height) {
+    return MakeError(ValueLoc(t, "pos"),
+                     "object '" + o.name + "' reaches off the table: its footprint spans " +
+                         Span(low.x(), high.x()) + " x " + Span(low.y(), high.y()) +
+                         " cm, the table [0, " + FormatDouble(table.width) + "] x [0, " +
+                         FormatDouble(table.height) + "] cm");
+  }
+  return std::nullopt;
+}
+
+}  // namespace pg::levelfile

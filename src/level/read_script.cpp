@@ -1,0 +1,189 @@
+// Loader: [script], its contacts and keyframes, and a recording as input.
+#include "loader.h"
+
+#include "proxygrasp/core/text.h"
+#include "proxygrasp/core/units.h"
+#include "proxygrasp/sensing/recorder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+namespace pg::levelfile {
+
+namespace fs = std::filesystem;
+
+Status Loader::BuildScript(const toml::table& root, Level& level) {
+  Script& script = level.script;
+  const toml::table* t = root["script"].as_table();
+  std::optional<double> duration;
+  if (t) {
+    script.loc = Loc(t->source());
+    // duration and interpolation
+    Errors errors;
+    UnknownKeys(*t, {"duration", "interpolation", "contacts", "recording"}, " in [script]", errors);
+    struct Head {
+      double duration = 1.0;
+      Interpolation interpolation = Interpolation::kLinear;
+    } head;
+    TableReader reader(*t, "script.");
+    reader.Real("duration", head.duration, 0.01, 3600, "s", "");
+    VisitEnum(reader, "interpolation", head.interpolation, kInterpolationNames, "");
+    reader.Text("recording", script.recording, "");
+    errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
+    if (Status s = Earliest(errors)) return s;
+    if (t->contains("duration")) duration = head.duration;
+    script.interpolation = head.interpolation;
+    if (Status s = ReadRecording(*t, level)) return s;
+
+    // contacts
+    if (const toml::node* contacts = t->get("contacts")) {
+      std::vector<const toml::table*> tables;
+      if (Status s = TablesOf(*contacts, "script.contacts", tables)) return s;
+      for (const toml::table* c : tables) {
+        ScriptContact contact;
+        contact.loc = Loc(c->source());
+        contact.interpolation = script.interpolation;
+        if (Status s = ReadContact(*c, script, contact)) return s;
+        script.contacts.push_back(std::move(contact));
+      }
+    }
+  }
+
+  // the duration covers every keyframe; by default it runs on to let objects settle, or as long
+  // as the recording
+  const double last = LastKeyframeTime(script);
+  if (!duration && !script.recording.empty()) {
+    script.duration = static_cast<double>(script.recordingFrames) / level.params.physics.frameRate;
+  } else if (!duration) {
+    script.duration = last + kScriptSettleTime;
+  } else if (*duration < last) {
+    return MakeError(ValueLoc(*t, "duration"), "duration " + FormatDouble(*duration) +
+                                                   " s ends before the last keyframe at " +
+                                                   FormatDouble(last) + " s");
+  } else {
+    script.duration = *duration;
+  }
+  return std::nullopt;
+}
+
+// [script] recording: a video file, relative to the level file that names it, that exists and
+// holds frames; it replaces the contacts
+Status Loader::ReadRecording(const toml::table& t, Level& level) {
+  Script& script = level.script;
+  if (script.recording.empty()) {
+    if (t.contains("recording")) return MakeError(ValueLoc(t, "recording"), "recording is empty");
+    return std::nullopt;
+  }
+  const SourceLoc at = ValueLoc(t, "recording");
+  if (t.contains("contacts")) {
+    return MakeError(at, "a recording replaces the script's contacts: give one or the other");
+  }
+  const fs::path name(script.recording);
+  const std::string path =
+      name.is_absolute() ? name.string()
+                         : (fs::path(at.file).parent_path() / name).lexically_normal().string();
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    return MakeError(at,
+                     "recording '" + script.recording + "' not found (looked for " + path + ")");
+  }
+  // count the frames: the default duration, and a check that the file is a readable video
+  Result<int64_t> counted = CountRecordingFrames(path);
+  if (!counted.ok()) {
+    return MakeError(
+        at, "recording '" + script.recording + "' cannot be read as a video (" + path + ")");
+  }
+  const int64_t frames = counted.value();
+  if (frames == 0) return MakeError(at, "recording '" + script.recording + "' holds no frames");
+  script.recording = path;
+  script.recordingFrames = frames;
+  return std::nullopt;
+}
+
+Status Loader::ReadContact(const toml::table& t, const Script& script, ScriptContact& contact) {
+  // name, interpolation and the shape's keys
+  TableReader reader(t, "");
+  reader.Text("name", contact.name, "");
+  VisitEnum(reader, "interpolation", contact.interpolation, kInterpolationNames, "");
+  DescribeContactShape(contact.shape, reader);
+  reader.known.emplace_back("keys");
+  Errors errors = reader.errors;
+  UnknownKeys(t, reader.known, " in a contact", errors);
+  Errors missing;
+  Missing(t, "name", "contact", missing);
+  Missing(t, "shape", "contact", missing);
+  Missing(t, "keys", "contact", missing);
+  const std::string shapeName = kShapeKindNames[static_cast<int>(contact.shape.kind)];
+  if (t.contains("shape") && !reader.bad.count("shape")) {
+    std::string fits;
+    for (const char* key : {"radius", "radius_x", "radius_y", "length", "scale", "points"}) {
+      if (ContactKeyApplies(contact.shape.kind, key)) {
+        fits += (fits.empty() ? "" : ", ") + std::string(key);
+      }
+    }
+    for (auto&& [k, v] : t) {
+      if (ContactKeyApplies(contact.shape.kind, k.str())) continue;
+      errors.push_back(MakeError(Loc(k.source()), "'" + std::string(k.str()) +
+                                                      "' does not apply to a " + shapeName +
+                                                      " contact (its size keys: " + fits + ")"));
+    }
+    if (ContactKeyApplies(contact.shape.kind, "points") && !t.contains("points")) {
+      missing.push_back(
+          MakeError(Loc(t.source()), "a " + shapeName + " contact needs 'points', its outline"));
+    }
+  }
+  if (Status s = Earliest(errors, missing)) return s;
+
+  // a unique name and a valid outline
+  if (contact.name.empty()) return MakeError(ValueLoc(t, "name"), "name must not be empty");
+  for (const ScriptContact& other : script.contacts) {
+    if (other.name == contact.name) {
+      return MakeError(ValueLoc(t, "name"), "duplicate contact name '" + contact.name +
+                                                "' (first defined at " + other.loc.Format() + ")");
+    }
+  }
+  if (ContactKeyApplies(contact.shape.kind, "points")) {
+    const bool convex = contact.shape.kind == ShapeKind::kConvexPolygon;
+    if (auto problem = PolygonProblem(contact.shape.points, convex)) {
+      return MakeError(ValueLoc(t, "points"), "points of a " + shapeName + " contact " + *problem);
+    }
+  }
+
+  // keyframes, strictly increasing in time
+  const toml::node& keysNode = *t.get("keys");
+  const toml::array* keys = keysNode.as_array();
+  if (!keys || keys->empty()) {
+    return MakeError(Loc(keysNode.source()),
+                     "keys must be a non-empty array of keyframes [{t = 0, pos = [x, y]}, ...]");
+  }
+  for (const toml::node& item : *keys) {
+    const toml::table* k = item.as_table();
+    if (!k) {
+      return MakeError(Loc(item.source()),
+                       "a keyframe must be a table {t = ..., pos = [x, y], angle = ...}, got " +
+                           TomlTypeName(item));
+    }
+    Keyframe key;
+    key.loc = Loc(k->source());
+    TableReader keyReader(*k, "");
+    keyReader.Real("t", key.t, 0, 3600, "s", "");
+    keyReader.Vector("pos", key.pose.pos, -1000, 1000, "cm", "");
+    keyReader.Angle("angle", key.pose.angle, -36000, 36000, "deg", "");
+    Errors keyErrors = keyReader.errors;
+    Errors keyMissing;
+    UnknownKeys(*k, keyReader.known, " in a keyframe", keyErrors);
+    Missing(*k, "t", "keyframe", keyMissing);
+    Missing(*k, "pos", "keyframe", keyMissing);
+    if (Status s = Earliest(keyErrors, keyMissing)) return s;
+    if (!contact.keys.empty() && key.t <= contact.keys.back().t) {
+      return MakeError(key.loc, "keyframe out of order: t = " + FormatDouble(key.t) +
+                                    " s is not after the previous keyframe's t = " +
+                                    FormatDouble(contact.keys.back().t) + " s");
+    }
+    contact.keys.push_back(key);
+  }
+  return std::nullopt;
+}
+
+}  // namespace pg::levelfile
