@@ -234,7 +234,7 @@ Status Loader::BuildVariants(const toml::table& root, Level& level) {
     Errors missing;
     Missing(*t, "name", "variant", missing);
     TableReader reader(*t, "");
-    reader.Text("name", variant.name, "");
+    reader.Text("name", variant.name, "the variant's name, used by expectations (required)");
     errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
     for (const char* key : kParamTables) {
       const toml::node* n = t->get(key);

@@ -31,15 +31,17 @@ Status Loader::ReadRegion(const toml::table& t, bool required, const std::string
   Errors missing;
   if (rect) {
     r.kind = Region::Kind::kRect;
-    reader.Vector("min", r.min, -1000, 1000, "cm", "");
-    reader.Vector("max", r.max, -1000, 1000, "cm", "");
+    reader.Vector("min", r.min, -1000, 1000, "cm",
+                  "region: the rectangle corner with the smallest x and y");
+    reader.Vector("max", r.max, -1000, 1000, "cm",
+                  "region: the rectangle corner with the largest x and y");
     errors = reader.errors;
     Missing(t, "min", what, missing);
     Missing(t, "max", what, missing);
   } else {
     r.kind = Region::Kind::kCircle;
-    reader.Vector("center", r.center, -1000, 1000, "cm", "");
-    reader.Real("radius", r.radius, 0.001, 1000, "cm", "");
+    reader.Vector("center", r.center, -1000, 1000, "cm", "region: the circle's centre");
+    reader.Real("radius", r.radius, 0.001, 1000, "cm", "region: the circle's radius");
     errors = reader.errors;
     Missing(t, "center", what, missing);
     Missing(t, "radius", what, missing);
@@ -89,7 +91,7 @@ Status Loader::ReadExpectation(const toml::table& t, const Level& level, Expecta
   if (!kindNode) return MakeError(e.loc, "expectation is missing required key 'kind'");
   {
     TableReader reader(t, "");
-    VisitEnum(reader, "kind", e.kind, kExpectKindNames, "");
+    VisitEnum(reader, "kind", e.kind, kExpectKindNames, "what the expectation checks (required)");
     if (!reader.errors.empty()) return reader.errors.front();
   }
   std::vector<std::string> known = {"kind", "at", "mode", "variant", "label"};
@@ -124,22 +126,29 @@ Status Loader::ReadExpectation(const toml::table& t, const Level& level, Expecta
   ProxyMode mode = ProxyMode::kPersistent;
   double aboveDeg = 0.0, belowDeg = 0.0;
   TableReader reader(t, "");
-  reader.Real("at", at, 0, 3600, "s", "");
-  VisitEnum(reader, "mode", mode, kProxyModeNames, "");
-  reader.Text("variant", e.variant, "");
-  reader.Text("label", e.label, "");
-  reader.Text("object", e.object, "");
-  reader.Text("contact", e.contact, "");
-  reader.Text("on", e.on, "");
+  reader.Real("at", at, 0, 3600, "s",
+              "time of the check from the start of the level; default: the end of the run "
+              "(resting: the contact's last keyframe)");
+  VisitEnum(reader, "mode", mode, kProxyModeNames, "check only in runs of this proxy mode");
+  reader.Text("variant", e.variant, "check only in runs of this variant; default: the base level");
+  reader.Text("label", e.label, "free text shown beside the result");
+  reader.Text("object", e.object, "the object's name");
+  reader.Text("contact", e.contact, "resting: the script contact's name");
+  reader.Text("on", e.on, "resting: an object's name, or \"table\"");
   if (e.kind == ExpectKind::kRotation) {
-    reader.Real("above", aboveDeg, -36000, 36000, "deg", "");
-    reader.Real("below", belowDeg, -36000, 36000, "deg", "");
+    reader.Real("above", aboveDeg, -36000, 36000, "deg",
+                "rotation: lower bound of the total signed rotation since the start");
+    reader.Real("below", belowDeg, -36000, 36000, "deg",
+                "rotation: upper bound of the total signed rotation since the start");
   } else {
-    reader.Real("above", e.above, 0, 10000, "cm", "");
-    reader.Real("below", e.below, 0, 10000, "cm", "");
+    reader.Real("above", e.above, 0, 10000, "cm",
+                "displacement: lower bound of the distance moved from the start");
+    reader.Real("below", e.below, 0, 10000, "cm",
+                "displacement: upper bound of the distance moved from the start");
   }
-  reader.Boolean("held", e.held, "");
-  reader.Real("fraction", e.fraction, 0.01, 1, "", "");
+  reader.Boolean("held", e.held, "held: whether the object must be held (true) or not (false)");
+  reader.Real("fraction", e.fraction, 0.01, 1, "",
+              "resting: the smallest fraction of the contact's particles that must rest there");
   Errors errors = reader.errors;
   UnknownKeys(t, known, " in " + what, errors);
   Errors missing;
@@ -235,10 +244,11 @@ Status Loader::BuildGoals(const toml::table& root, Level& level) {
     double angleDeg = 0.0;
     double toleranceDeg = RadToDeg(g.tolerance);
     TableReader reader(*t, "");
-    reader.Text("object", g.object, "");
-    reader.Text("label", g.label, "");
-    reader.Real("angle", angleDeg, -360, 360, "deg", "");
-    reader.Real("tolerance", toleranceDeg, 0, 180, "deg", "");
+    reader.Text("object", g.object, "the object's name");
+    reader.Text("label", g.label, "text drawn beside the goal");
+    reader.Real("angle", angleDeg, -360, 360, "deg",
+                "the object's absolute angle to reach, compared modulo 360");
+    reader.Real("tolerance", toleranceDeg, 0, 180, "deg", "allowed angle error; only with angle");
     reader.known.insert(reader.known.end(), {"min", "max", "center", "radius"});
     Errors errors = reader.errors;
     UnknownKeys(*t, reader.known, " in a goal", errors);

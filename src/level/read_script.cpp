@@ -27,9 +27,12 @@ Status Loader::BuildScript(const toml::table& root, Level& level) {
       Interpolation interpolation = Interpolation::kLinear;
     } head;
     TableReader reader(*t, "script.");
-    reader.Real("duration", head.duration, 0.01, 3600, "s", "");
-    VisitEnum(reader, "interpolation", head.interpolation, kInterpolationNames, "");
-    reader.Text("recording", script.recording, "");
+    reader.Real("duration", head.duration, 0.01, 3600, "s",
+                "length of the level; default: the last keyframe plus 1 s");
+    VisitEnum(reader, "interpolation", head.interpolation, kInterpolationNames,
+              "how contacts move between keyframes");
+    reader.Text("recording", script.recording,
+                "a recorded video that replaces the contacts, relative to this file");
     errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
     if (Status s = Earliest(errors)) return s;
     if (t->contains("duration")) duration = head.duration;
@@ -104,8 +107,9 @@ Status Loader::ReadRecording(const toml::table& t, Level& level) {
 Status Loader::ReadContact(const toml::table& t, const Script& script, ScriptContact& contact) {
   // name, interpolation and the shape's keys
   TableReader reader(t, "");
-  reader.Text("name", contact.name, "");
-  VisitEnum(reader, "interpolation", contact.interpolation, kInterpolationNames, "");
+  reader.Text("name", contact.name, "unique name, used by resting expectations (required)");
+  VisitEnum(reader, "interpolation", contact.interpolation, kInterpolationNames,
+            "how contacts move between keyframes");
   DescribeContactShape(contact.shape, reader);
   reader.known.emplace_back("keys");
   Errors errors = reader.errors;
@@ -167,9 +171,12 @@ Status Loader::ReadContact(const toml::table& t, const Script& script, ScriptCon
     Keyframe key;
     key.loc = Loc(k->source());
     TableReader keyReader(*k, "");
-    keyReader.Real("t", key.t, 0, 3600, "s", "");
-    keyReader.Vector("pos", key.pose.pos, -1000, 1000, "cm", "");
-    keyReader.Angle("angle", key.pose.angle, -36000, 36000, "deg", "");
+    keyReader.Real("t", key.t, 0, 3600, "s",
+                   "time of the keyframe from the start of the level (required)");
+    keyReader.Vector("pos", key.pose.pos, -1000, 1000, "cm",
+                     "position of the contact's centre on the table (required)");
+    keyReader.Angle("angle", key.pose.angle, -36000, 36000, "deg",
+                    "the contact's angle, counter-clockwise; not wrapped");
     Errors keyErrors = keyReader.errors;
     Errors keyMissing;
     UnknownKeys(*k, keyReader.known, " in a keyframe", keyErrors);
