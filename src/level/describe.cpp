@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <initializer_list>
+#include <iterator>
+#include <string>
 
 namespace pg {
 
@@ -15,6 +17,21 @@ bool OneOf(ObjectShape s, std::initializer_list<ObjectShape> shapes) {
 
 bool OneOf(ShapeKind s, std::initializer_list<ShapeKind> shapes) {
   return std::find(shapes.begin(), shapes.end(), s) != shapes.end();
+}
+
+// the described keys that apply to `shape` but not to every shape, joined with ", "
+template <typename Shape, typename Spec, typename Applies, typename DescribeFn>
+std::string SizeKeys(Shape shape, int shapes, Spec spec, Applies applies, DescribeFn describe) {
+  const ParamSection section{"", [&spec, describe](ParamVisitor& v) { describe(spec, v); }};
+  std::string keys;
+  for (const FieldInfo& f : ListFields(section)) {
+    if (!applies(shape, f.key)) continue;
+    bool everywhere = true;
+    for (int s = 0; s < shapes; ++s)
+      everywhere = everywhere && applies(static_cast<Shape>(s), f.key);
+    if (!everywhere) keys += (keys.empty() ? "" : ", ") + f.key;
+  }
+  return keys;
 }
 
 }  // namespace
@@ -76,6 +93,16 @@ bool ContactKeyApplies(ShapeKind shape, std::string_view key) {
   if (key == "scale") return OneOf(shape, {S::kHandFive, S::kHandFlat, S::kHandCupped});
   if (key == "points") return OneOf(shape, {S::kConvexPolygon, S::kConcavePolygon});
   return true;
+}
+
+std::string ObjectSizeKeys(ObjectShape shape) {
+  return SizeKeys(shape, static_cast<int>(std::size(kObjectShapeNames)), ObjectSpec{},
+                  ObjectKeyApplies, DescribeObject);
+}
+
+std::string ContactSizeKeys(ShapeKind shape) {
+  return SizeKeys(shape, static_cast<int>(std::size(kShapeKindNames)), ContactShape{},
+                  ContactKeyApplies, DescribeContactShape);
 }
 
 }  // namespace pg

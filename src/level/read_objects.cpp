@@ -36,10 +36,7 @@ Status Loader::ReadObject(const toml::table& t, const Level& level, ObjectSpec& 
   Missing(t, "pos", "object", missing);
   const std::string shapeName = kObjectShapeNames[static_cast<int>(o.shape)];
   if (t.contains("shape") && !reader.bad.count("shape")) {
-    std::string fits;
-    for (const char* key : {"size_x", "size_y", "radius", "top_radius", "height", "points"}) {
-      if (ObjectKeyApplies(o.shape, key)) fits += (fits.empty() ? "" : ", ") + std::string(key);
-    }
+    const std::string fits = ObjectSizeKeys(o.shape);
     for (auto&& [k, v] : t) {
       if (ObjectKeyApplies(o.shape, k.str())) continue;
       errors.push_back(MakeError(Loc(k.source()), "'" + std::string(k.str()) +

@@ -120,12 +120,7 @@ Status Loader::ReadContact(const toml::table& t, const Script& script, ScriptCon
   Missing(t, "keys", "contact", missing);
   const std::string shapeName = kShapeKindNames[static_cast<int>(contact.shape.kind)];
   if (t.contains("shape") && !reader.bad.count("shape")) {
-    std::string fits;
-    for (const char* key : {"radius", "radius_x", "radius_y", "length", "scale", "points"}) {
-      if (ContactKeyApplies(contact.shape.kind, key)) {
-        fits += (fits.empty() ? "" : ", ") + std::string(key);
-      }
-    }
+    const std::string fits = ContactSizeKeys(contact.shape.kind);
     for (auto&& [k, v] : t) {
       if (ContactKeyApplies(contact.shape.kind, k.str())) continue;
       errors.push_back(MakeError(Loc(k.source()), "'" + std::string(k.str()) +

@@ -56,6 +56,16 @@ TEST(Describe, SizeKeysApplyToTheirShapes) {
 
 // docs/levels.md is written by hand around these keys; every key must appear in a table row with
 // its default, so the reference cannot drift from the code
+TEST(Describe, SizeKeysOfAShapeComeFromTheDescription) {
+  EXPECT_EQ(ObjectSizeKeys(ObjectShape::kBox), "size_x, size_y, height");
+  EXPECT_EQ(ObjectSizeKeys(ObjectShape::kSphere), "radius");
+  EXPECT_EQ(ObjectSizeKeys(ObjectShape::kFrustum), "radius, top_radius, height");
+  EXPECT_EQ(ObjectSizeKeys(ObjectShape::kConcavePrism), "height, points");
+  EXPECT_EQ(ContactSizeKeys(ShapeKind::kEllipse), "radius_x, radius_y");
+  EXPECT_EQ(ContactSizeKeys(ShapeKind::kCapsule), "radius, length");
+  EXPECT_EQ(ContactSizeKeys(ShapeKind::kHandFlat), "scale");
+}
+
 TEST(Describe, DocsListEveryObjectAndContactKeyWithItsDefault) {
   std::ifstream in(std::string(PROXYGRASP_SOURCE_DIR) + "/docs/levels.md");
   ASSERT_TRUE(in) << "docs/levels.md is missing";

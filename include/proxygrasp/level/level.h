@@ -129,4 +129,11 @@ bool ObjectKeyApplies(ObjectShape shape, std::string_view key);
 /// True when a contact size key is meaningful for the shape (radius_x applies to ellipses, ...).
 bool ContactKeyApplies(ShapeKind shape, std::string_view key);
 
+/// The size keys of an object shape: the described keys that apply to it but not to every shape
+/// ("size_x, size_y, height" for a box), as a list for messages.
+std::string ObjectSizeKeys(ObjectShape shape);
+
+/// The same for a contact shape ("radius_x, radius_y" for an ellipse).
+std::string ContactSizeKeys(ShapeKind shape);
+
 }  // namespace pg
