@@ -36,17 +36,9 @@ Status Loader::ReadObject(const toml::table& t, const Level& level, ObjectSpec& 
   Missing(t, "pos", "object", missing);
   const std::string shapeName = kObjectShapeNames[static_cast<int>(o.shape)];
   if (t.contains("shape") && !reader.bad.count("shape")) {
-    const std::string fits = ObjectSizeKeys(o.shape);
-    for (auto&& [k, v] : t) {
-      if (ObjectKeyApplies(o.shape, k.str())) continue;
-      errors.push_back(MakeError(Loc(k.source()), "'" + std::string(k.str()) +
-                                                      "' does not apply to a " + shapeName +
-                                                      " (its size keys: " + fits + ")"));
-    }
-    if (ObjectKeyApplies(o.shape, "points") && !t.contains("points")) {
-      missing.push_back(
-          MakeError(Loc(t.source()), "a " + shapeName + " object needs 'points', its outline"));
-    }
+    CheckShapeKeys(
+        t, [&o](std::string_view key) { return ObjectKeyApplies(o.shape, key); }, shapeName,
+        shapeName + " object", ObjectSizeKeys(o.shape), errors, missing);
   }
   if (Status s = Earliest(errors, missing)) return s;
 

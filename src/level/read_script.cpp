@@ -120,17 +120,10 @@ Status Loader::ReadContact(const toml::table& t, const Script& script, ScriptCon
   Missing(t, "keys", "contact", missing);
   const std::string shapeName = kShapeKindNames[static_cast<int>(contact.shape.kind)];
   if (t.contains("shape") && !reader.bad.count("shape")) {
-    const std::string fits = ContactSizeKeys(contact.shape.kind);
-    for (auto&& [k, v] : t) {
-      if (ContactKeyApplies(contact.shape.kind, k.str())) continue;
-      errors.push_back(MakeError(Loc(k.source()), "'" + std::string(k.str()) +
-                                                      "' does not apply to a " + shapeName +
-                                                      " contact (its size keys: " + fits + ")"));
-    }
-    if (ContactKeyApplies(contact.shape.kind, "points") && !t.contains("points")) {
-      missing.push_back(
-          MakeError(Loc(t.source()), "a " + shapeName + " contact needs 'points', its outline"));
-    }
+    const ShapeKind kind = contact.shape.kind;
+    CheckShapeKeys(
+        t, [kind](std::string_view key) { return ContactKeyApplies(kind, key); },
+        shapeName + " contact", shapeName + " contact", ContactSizeKeys(kind), errors, missing);
   }
   if (Status s = Earliest(errors, missing)) return s;
 

@@ -184,4 +184,23 @@ class TableReader final : public ParamVisitor {
   std::string m_prefix;
 };
 
+/// The keys of t that do not apply to its shape (applies(key) is false), each an error "'k' does
+/// not apply to a <shapeText> (its size keys: <sizeKeys>)"; and, when the shape needs an outline
+/// and t gives none, a missing "a <thingText> needs 'points'" at the table.
+template <typename Applies>
+void CheckShapeKeys(const toml::table& t, Applies applies, const std::string& shapeText,
+                    const std::string& thingText, const std::string& sizeKeys, Errors& errors,
+                    Errors& missing) {
+  for (auto&& [k, v] : t) {
+    if (applies(k.str())) continue;
+    errors.push_back(MakeError(Loc(k.source()), "'" + std::string(k.str()) +
+                                                    "' does not apply to a " + shapeText +
+                                                    " (its size keys: " + sizeKeys + ")"));
+  }
+  if (applies("points") && !t.contains("points")) {
+    missing.push_back(
+        MakeError(Loc(t.source()), "a " + thingText + " needs 'points', its outline"));
+  }
+}
+
 }  // namespace pg::levelfile

@@ -19,15 +19,9 @@ Error ParamError(const std::string& key, const std::string& what) {
   return MakeError(SourceLoc{}, "physics." + key + " " + what);
 }
 
-// the physics section of a copy of p, for the checks the description drives
-ParamSection PhysicsSection(PhysicsParams& p) {
-  return {"physics", [&p](ParamVisitor& v) { Describe(p, v); }};
-}
-
 Status ValidateParams(const PhysicsParams& p, const TableParams& t) {
   // every range comes from the parameters' description
-  PhysicsParams copy = p;
-  if (Status s = CheckFields(PhysicsSection(copy))) return s;
+  if (Status s = CheckDescribed("physics", p)) return s;
   if (!(t.width > 0 && t.height > 0 && t.wallThickness > 0)) {
     return MakeError(SourceLoc{}, "table width, height and wall_thickness must be > 0");
   }
@@ -510,9 +504,7 @@ int LayeredWorld::PlanErrors() const {
 
 std::vector<std::string> LayeredWorld::FixedKeysChanged(const PhysicsParams& physics) const {
   // the keys described as needing a restart (Apply::kRestart)
-  PhysicsParams now = m_impl->params;
-  PhysicsParams next = physics;
-  return RestartKeysChanged(PhysicsSection(now), PhysicsSection(next));
+  return RestartKeysChanged("physics", m_impl->params, physics);
 }
 
 Status LayeredWorld::SetParams(const PhysicsParams& physics) {

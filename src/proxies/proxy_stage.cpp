@@ -161,9 +161,7 @@ void Count(ParticlePlan& plan) {
 }  // namespace
 
 Status ProxyStage::SetParams(const ProxyParams& params) {
-  ProxyParams checked = params;
-  const ParamSection section{"proxies", [&checked](ParamVisitor& v) { Describe(checked, v); }};
-  if (Status s = CheckFields(section)) return s;
+  if (Status s = CheckDescribed("proxies", params)) return s;
   m_params = params;
   return std::nullopt;
 }

@@ -40,8 +40,7 @@ Vec2 ApplyHomography(const cv::Matx33d& h, double x, double y) {
 // what Configure and SetParams require beyond the described ranges
 // every range comes from the parameters' description
 Status CheckSensingParams(const SensingParams& params) {
-  SensingParams copy = params;
-  return CheckFields({"sensing", [&copy](ParamVisitor& v) { Describe(copy, v); }});
+  return CheckDescribed("sensing", params);
 }
 
 // the structuring element of the clean-up opening (empty for none)
@@ -172,10 +171,7 @@ Status Sensor::SetParams(const SensingParams& params) {
 
 std::vector<std::string> Sensor::FixedKeysChanged(const SensingParams& params) const {
   // the keys described as needing a restart (Apply::kRestart)
-  SensingParams now = m_params;
-  SensingParams next = params;
-  return RestartKeysChanged({"sensing", [&now](ParamVisitor& v) { Describe(now, v); }},
-                            {"sensing", [&next](ParamVisitor& v) { Describe(next, v); }});
+  return RestartKeysChanged("sensing", m_params, params);
 }
 
 Status Sensor::SetBackground(const cv::Mat& background) {

@@ -420,10 +420,7 @@ Status SyntheticCamera::SetParams(const SyntheticCameraParams& params) {
 std::vector<std::string> SyntheticCamera::FixedKeysChanged(
     const SyntheticCameraParams& params) const {
   // the keys described as needing a restart (Apply::kRestart)
-  SyntheticCameraParams now = m_params;
-  SyntheticCameraParams next = params;
-  return RestartKeysChanged({"camera", [&now](ParamVisitor& v) { Describe(now, v); }},
-                            {"camera", [&next](ParamVisitor& v) { Describe(next, v); }});
+  return RestartKeysChanged("camera", m_params, params);
 }
 
 cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo) {

@@ -7,9 +7,7 @@
 namespace pg {
 
 Status Tracker::SetParams(const TrackingParams& params) {
-  TrackingParams checked = params;
-  const ParamSection section{"tracking", [&checked](ParamVisitor& v) { Describe(checked, v); }};
-  if (Status s = CheckFields(section)) return s;
+  if (Status s = CheckDescribed("tracking", params)) return s;
   m_params = params;
   return std::nullopt;
 }

@@ -22,10 +22,10 @@ struct Sample {
 
 void Describe(Sample& s, ParamVisitor& v) {
   v.Real("length", s.length, 0, 10, "cm", "a length");
-  v.Integer("count", s.count, 1, 5, "1", "a count");
+  v.Integer("count", s.count, 1, 5, "1", {"a count", Apply::kRestart});
   v.Boolean("enabled", s.enabled, "a flag");
   VisitEnum(v, "color", s.color, kColorNames, "a colour");
-  v.Text("path", s.path, "a file");
+  v.Text("path", s.path, {"a file", Apply::kRestart});
 }
 
 ParamSection SectionOf(Sample& s) {
@@ -138,6 +138,27 @@ void Describe(Shape& s, ParamVisitor& v) {
 
 ParamSection SectionOf(Shape& s) {
   return {"shape", [&s](ParamVisitor& v) { Describe(s, v); }};
+}
+
+TEST(Params, EachFieldSaysWhenAChangeTakesEffect) {
+  Sample s;
+  const std::vector<FieldInfo> fields = ListFields(SectionOf(s));
+  EXPECT_EQ(fields[0].apply, Apply::kLive) << "a plain doc is a live field";
+  EXPECT_EQ(fields[1].apply, Apply::kRestart);
+  EXPECT_EQ(fields[1].doc, "a count");
+  Sample next;
+  next.length = 3;
+  next.count = 4;
+  next.path = "b.yaml";
+  EXPECT_EQ(RestartKeysChanged("sample", s, next), (std::vector<std::string>{"count", "path"}));
+  EXPECT_EQ(ChangedKeys(SectionOf(s), SectionOf(next)),
+            (std::vector<std::string>{"length", "count", "path"}));
+  EXPECT_TRUE(RestartKeysChanged("sample", s, s).empty());
+  next.count = 9;
+  const Status bad = CheckDescribed("sample", next);
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->Format(), "sample.count must be in [1, 5] (got 9)");
+  EXPECT_FALSE(CheckDescribed("sample", s));
 }
 
 TEST(Params, ListsAnglesInDegreesAndVectorsAsArrays) {

@@ -116,6 +116,24 @@ std::vector<std::string> RestartKeysChanged(const ParamSection& a, const ParamSe
 /// or "" when none differ.
 std::string ChangedFieldsAsToml(const ParamSection& current, const ParamSection& defaults);
 
+/// CheckFields for a value of a struct P that has a `Describe(P&, ParamVisitor&)`: the first value
+/// out of its described range, as "section.key must be in ...".
+template <typename P>
+Status CheckDescribed(const std::string& section, const P& params) {
+  P copy = params;
+  return CheckFields({section, [&copy](ParamVisitor& v) { Describe(copy, v); }});
+}
+
+/// RestartKeysChanged for two values of a struct P that has a `Describe(P&, ParamVisitor&)`.
+template <typename P>
+std::vector<std::string> RestartKeysChanged(const std::string& section, const P& now,
+                                            const P& next) {
+  P a = now;
+  P b = next;
+  return RestartKeysChanged({section, [&a](ParamVisitor& v) { Describe(a, v); }},
+                            {section, [&b](ParamVisitor& v) { Describe(b, v); }});
+}
+
 /// The TOML spelling of a field type, for messages ("a number", "an integer", ...).
 const char* TypeName(FieldInfo::Type type);
 
