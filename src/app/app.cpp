@@ -196,13 +196,13 @@ struct App::Impl {
   double fps = 0.0;
 
   ~Impl();
-  Status OpenWindow();
+  MaybeError OpenWindow();
   Result<Level> ReadLevel(const std::string& path) const;
-  Status Adopt(Level next, const std::string& path);
-  Status Load(const std::string& path);
-  Status StartRun(const Level& runLevel, const LevelParams& runParams);
+  MaybeError Adopt(Level next, const std::string& path);
+  MaybeError Load(const std::string& path);
+  MaybeError StartRun(const Level& runLevel, const LevelParams& runParams);
   void ApplyParams(const LevelParams& next);
-  Status SetupInput();
+  MaybeError SetupInput();
   void Say(const std::string& text);
   void UpdateOutputSize();
   void HandleEvent(const SDL_Event& event);
@@ -220,7 +220,7 @@ struct App::Impl {
   std::string Stem() const { return std::filesystem::path(options.level).stem().string(); }
   std::string ChangedToml() const;
   void NextLevel();
-  Status WriteScreenshot(const std::string& path);
+  MaybeError WriteScreenshot(const std::string& path);
 };
 
 App::Impl::~Impl() {
@@ -242,7 +242,7 @@ void App::Impl::Say(const std::string& text) {
   std::cout << "proxygrasp play: " << text << std::endl;
 }
 
-Status App::Impl::OpenWindow() {
+MaybeError App::Impl::OpenWindow() {
   // no GPU is assumed: the software renderer works on every display, Xvfb included
   SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
   if (SDL_Init(SDL_INIT_VIDEO) != 0)
@@ -278,14 +278,14 @@ Status App::Impl::OpenWindow() {
 Result<Level> App::Impl::ReadLevel(const std::string& path) const {
   Result<Level> loaded = LoadLevel(path);
   if (!loaded.ok()) return loaded;
-  if (Status s = ApplyOverrides(loaded.value(), options.sets)) return *s;
+  if (MaybeError s = ApplyOverrides(loaded.value(), options.sets)) return *s;
   return loaded;
 }
 
-Status App::Impl::Adopt(Level next, const std::string& path) {
+MaybeError App::Impl::Adopt(Level next, const std::string& path) {
   // the run starts before anything is replaced, so a level the pipeline rejects changes nothing
   const LevelParams nextParams = next.params;
-  if (Status s = StartRun(next, nextParams)) return s;
+  if (MaybeError s = StartRun(next, nextParams)) return s;
   stamps.clear();
   for (const std::string& file : next.files) stamps[file] = StampOf(file);
   stamps[path] = StampOf(path);
@@ -297,8 +297,8 @@ Status App::Impl::Adopt(Level next, const std::string& path) {
   return std::nullopt;
 }
 
-Status App::Impl::StartRun(const Level& runLevel, const LevelParams& runParams) {
-  if (Status s = sim.Start(runLevel, runParams)) return s;
+MaybeError App::Impl::StartRun(const Level& runLevel, const LevelParams& runParams) {
+  if (MaybeError s = sim.Start(runLevel, runParams)) return s;
   StopRecording();
   view.Reset();
   mouse.Clear();
@@ -344,19 +344,19 @@ void App::Impl::ApplyParams(const LevelParams& next) {
     return;
   }
   // the rest needs a new run: restart with every change, as before live tuning
-  if (Status s = StartRun(level, next)) return reject(*s);
+  if (MaybeError s = StartRun(level, next)) return reject(*s);
   params = next;
   edit = params;
   say("restarted: " + join(report.restart) + " cannot change on a running simulation");
 }
 
-Status App::Impl::Load(const std::string& path) {
+MaybeError App::Impl::Load(const std::string& path) {
   Result<Level> next = ReadLevel(path);
   if (!next.ok()) return next.error();
   return Adopt(std::move(next.value()), path);
 }
 
-Status App::Impl::SetupInput() {
+MaybeError App::Impl::SetupInput() {
   const std::string& spec = options.input;
   if (spec.empty()) {
     // default: a camera when one opens, the mouse otherwise
@@ -551,7 +551,7 @@ void App::Impl::NextLevel() {
   auto it = std::find_if(files.begin(), files.end(),
                          [&](const std::string& f) { return fs::equivalent(f, current, ec); });
   const std::string next = (it == files.end() || it + 1 == files.end()) ? files.front() : *(it + 1);
-  if (Status s = Load(next)) {
+  if (MaybeError s = Load(next)) {
     loadError = s->Format();
     std::cerr << loadError << "\n";
     return;
@@ -569,7 +569,7 @@ void App::Impl::ApplyPending() {
   if (p.nextLevel) NextLevel();
   if (p.reload) {
     // a failed reload keeps the running level and shows why
-    if (Status s = Load(options.level)) {
+    if (MaybeError s = Load(options.level)) {
       loadError = s->Format();
       std::cerr << "proxygrasp play: reload failed, keeping the running level\n"
                 << loadError << std::endl;
@@ -582,7 +582,7 @@ void App::Impl::ApplyPending() {
   if (p.params) {
     ApplyParams(*p.params);
   } else if (p.restart) {
-    if (Status s = StartRun(level, params)) runError = s->Format();
+    if (MaybeError s = StartRun(level, params)) runError = s->Format();
   }
   if (p.recording) {
     if (*p.recording) {
@@ -617,7 +617,7 @@ void App::Impl::StepInput() {
     case InputKind::kScript:
       // the script loops
       if (sim.Time() >= level.script.duration - 1e-9) {
-        if (Status s = StartRun(level, params)) {
+        if (MaybeError s = StartRun(level, params)) {
           runError = s->Format();
           return;
         }
@@ -636,7 +636,7 @@ void App::Impl::StepInput() {
       if (noInput) {
         if (std::chrono::duration<double>(now - lastRetry).count() < kRetrySeconds) return;
         lastRetry = now;
-        if (Status s = frames.Reconnect()) {
+        if (MaybeError s = frames.Reconnect()) {
           runError = s->Format();
           return;
         }
@@ -659,7 +659,7 @@ void App::Impl::StepInput() {
       // a video replays from its start, with a fresh run
       noInput = true;
       lastRetry = Clock::now() - std::chrono::seconds(10);
-      if (Status s = StartRun(level, params)) runError = s->Format();
+      if (MaybeError s = StartRun(level, params)) runError = s->Format();
       return;
     case FrameStatus::kLost:
       noInput = true;
@@ -681,7 +681,7 @@ void App::Impl::StartRecording() {
   }
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (Status s =
+  if (MaybeError s =
           recorder.Open(dir, dir + "/input.mkv", sim.CameraSize(), params.physics.frameRate)) {
     runError = s->Format();
     return;
@@ -693,7 +693,7 @@ void App::Impl::StartRecording() {
 void App::Impl::StopRecording() {
   if (!recorder.IsOpen()) return;
   const int64_t recorded = recorder.frames();
-  if (Status s = recorder.Close()) {
+  if (MaybeError s = recorder.Close()) {
     runError = s->Format();
   } else {
     Say("recorded " + std::to_string(recorded) + " frames into " + recordDir);
@@ -702,7 +702,7 @@ void App::Impl::StopRecording() {
 
 void App::Impl::Record() {
   if (!recorder.IsOpen()) return;
-  if (Status s = recorder.Write(sim)) {
+  if (MaybeError s = recorder.Write(sim)) {
     runError = s->Format();
     StopRecording();
   }
@@ -784,7 +784,7 @@ void App::Impl::DrawPanel() {
   ImGui::End();
 }
 
-Status App::Impl::WriteScreenshot(const std::string& path) {
+MaybeError App::Impl::WriteScreenshot(const std::string& path) {
   cv::Mat pixels(outputSize, CV_8UC3);
   if (SDL_RenderReadPixels(renderer, nullptr, SDL_PIXELFORMAT_BGR24, pixels.data,
                            static_cast<int>(pixels.step)) != 0) {
@@ -800,7 +800,7 @@ Status App::Impl::WriteScreenshot(const std::string& path) {
 App::App() : m_impl(std::make_unique<Impl>()) {}
 App::~App() = default;
 
-Status App::Open(const AppOptions& options) {
+MaybeError App::Open(const AppOptions& options) {
   Impl& a = *m_impl;
   assert(!a.sdlUp && "an App opens once");
   a.options = options;
@@ -808,9 +808,9 @@ Status App::Open(const AppOptions& options) {
   // the level first: a bad file is reported before any window appears
   Result<Level> level = a.ReadLevel(options.level);
   if (!level.ok()) return level.error();
-  if (Status s = a.SetupInput()) return s;
-  if (Status s = a.OpenWindow()) return s;
-  if (Status s = a.Adopt(std::move(level.value()), options.level)) return s;
+  if (MaybeError s = a.SetupInput()) return s;
+  if (MaybeError s = a.OpenWindow()) return s;
+  if (MaybeError s = a.Adopt(std::move(level.value()), options.level)) return s;
   SDL_SetWindowTitle(a.window, ("proxygrasp - " + a.level.name).c_str());
   return std::nullopt;
 }
@@ -874,7 +874,7 @@ bool App::Tick() {
     a.pending.screenshot.reset();
     if (path.empty())
       path = a.options.outDir + "/" + a.Stem() + "_" + std::to_string(a.sim.Frame()) + ".png";
-    if (Status s = a.WriteScreenshot(path)) {
+    if (MaybeError s = a.WriteScreenshot(path)) {
       a.screenshot = *s;
       a.runError = s->Format();
     } else {

@@ -62,7 +62,7 @@ class Rig {
  public:
   virtual ~Rig() = default;
   /// Shows a display-sized CV_8UC1 image on the table and waits until the camera sees it.
-  virtual Status Show(const cv::Mat& display) = 0;
+  virtual MaybeError Show(const cv::Mat& display) = 0;
   /// The next camera frame, CV_8UC1.
   virtual Result<cv::Mat> Grab() = 0;
 };
@@ -73,7 +73,7 @@ class SyntheticRig final : public Rig {
   SyntheticRig(const SyntheticCameraParams& params, const TableParams& table, double shiftCm)
       : m_camera(params, table), m_table(table), m_shiftCm(shiftCm) {}
 
-  Status Show(const cv::Mat& display) override {
+  MaybeError Show(const cv::Mat& display) override {
     m_shown = display.clone();
     if (m_shiftCm != 0.0) {
       // a misaligned projector: the image lands shifted on the table
@@ -103,7 +103,7 @@ class CameraRig final : public Rig {
     if (m_sdl) SDL_Quit();
   }
 
-  Status Open(const std::string& spec, int display) {
+  MaybeError Open(const std::string& spec, int display) {
     Result<std::unique_ptr<FrameSource>> source = OpenFrameSource(spec);
     if (!source.ok()) return source.error();
     m_source = std::move(source.value());
@@ -124,7 +124,7 @@ class CameraRig final : public Rig {
     return std::nullopt;
   }
 
-  Status Show(const cv::Mat& display) override {
+  MaybeError Show(const cv::Mat& display) override {
     // the image stretched over the whole display
     cv::Mat rgb;
     cv::cvtColor(display, rgb, cv::COLOR_GRAY2RGB);
@@ -234,7 +234,7 @@ int Calibrate(const CalibrateArgs& args) {
   } else {
 #if PROXYGRASP_WITH_SDL
     auto cameraRig = std::make_unique<CameraRig>();
-    if (Status s = cameraRig->Open(args.camera, args.display)) {
+    if (MaybeError s = cameraRig->Open(args.camera, args.display)) {
       std::cerr << "proxygrasp calibrate: " << s->Format() << "\n";
       return kExitBadInput;
     }
@@ -251,7 +251,7 @@ int Calibrate(const CalibrateArgs& args) {
   cv::Size imageSize;
   for (int attempt = 1; attempt <= attempts && !fit; ++attempt) {
     Result<cv::Mat> frame = cv::Mat();
-    if (Status s = rig->Show(target.value().displayImage)) {
+    if (MaybeError s = rig->Show(target.value().displayImage)) {
       frame = *s;
     } else {
       frame = rig->Grab();
@@ -285,7 +285,7 @@ int Calibrate(const CalibrateArgs& args) {
   cv::Mat background;
   if (args.backgroundFrames > 0) {
     std::cout << "clear the table: capturing " << args.backgroundFrames << " background frames\n";
-    if (Status s = rig->Show(cv::Mat::zeros(params.displaySize, CV_8UC1))) {
+    if (MaybeError s = rig->Show(cv::Mat::zeros(params.displaySize, CV_8UC1))) {
       std::cerr << "proxygrasp calibrate: " << s->Format() << "\n";
       return kExitBadInput;
     }
@@ -309,7 +309,7 @@ int Calibrate(const CalibrateArgs& args) {
   }
 
   // save
-  if (Status s = SaveCalibration(
+  if (MaybeError s = SaveCalibration(
           args.output, MakeCalibration(*fit, target.value().tableToDisplay, background))) {
     std::cerr << "proxygrasp calibrate: " << s->Format() << "\n";
     return kExitBadInput;

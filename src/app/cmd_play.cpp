@@ -65,7 +65,7 @@ int PlayHeadless(const PlayArgs& args, Level level) {
   VideoOptions video;
   video.videoPath = args.outDir + "/" + stem + ".mp4";
   video.pngPath = args.outDir + "/" + stem + ".png";
-  if (Status s = ParseViewOptions(args.show, video.view)) {
+  if (MaybeError s = ParseViewOptions(args.show, video.view)) {
     std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
     return kExitBadInput;
   }
@@ -92,7 +92,7 @@ int Play(const PlayArgs& args) {
     std::cerr << level.error().Format() << "\n";
     return kExitBadInput;
   }
-  if (Status s = ApplyOverrides(level.value(), a.sets)) {
+  if (MaybeError s = ApplyOverrides(level.value(), a.sets)) {
     std::cerr << "proxygrasp play: " << s->Format() << "\n";
     return kExitBadInput;
   }
@@ -105,7 +105,7 @@ int Play(const PlayArgs& args) {
   options.fullscreen = a.fullscreen;
   options.display = a.display;
   options.outDir = a.outDir;
-  if (Status s = ParseViewOptions(a.show, options.view)) {
+  if (MaybeError s = ParseViewOptions(a.show, options.view)) {
     std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
     return kExitBadInput;
   }
@@ -120,7 +120,7 @@ int Play(const PlayArgs& args) {
   options.windowSize = {w, h};
 
   App app;
-  if (Status s = app.Open(options)) {
+  if (MaybeError s = app.Open(options)) {
     std::cerr << "proxygrasp play: " << s->Format() << "\n";
     return kExitBadInput;
   }

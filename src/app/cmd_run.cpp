@@ -50,7 +50,7 @@ int RunLevels(const RunArgs& args) {
       std::cerr << level.error().Format() << "\n";
       return kExitBadInput;
     }
-    if (Status s = ApplyOverrides(level.value(), args.sets)) {
+    if (MaybeError s = ApplyOverrides(level.value(), args.sets)) {
       std::cerr << "proxygrasp run: " << s->Format() << "\n";
       return kExitBadInput;
     }
@@ -66,7 +66,7 @@ int RunLevels(const RunArgs& args) {
     VideoOptions video;
     video.videoPath = args.video;
     video.pngPath = args.png;
-    if (Status s = ParseViewOptions(args.show, video.view)) {
+    if (MaybeError s = ParseViewOptions(args.show, video.view)) {
       std::cerr << "proxygrasp run: --show: " << s->Format() << "\n";
       return kExitBadInput;
     }

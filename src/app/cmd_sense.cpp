@@ -104,7 +104,7 @@ int RunSense(const SenseOptions& o) {
   }
   SenseInput& in = opened.value();
   LevelParams params = in.level.params;
-  if (Status s = ApplyOverrides(params, o.sets)) {
+  if (MaybeError s = ApplyOverrides(params, o.sets)) {
     std::cerr << me << s->Format() << "\n";
     return kExitBadInput;
   }
@@ -118,7 +118,7 @@ int RunSense(const SenseOptions& o) {
   setup.cameraBackground = script;
   Simulation sim;
   bool started = false;
-  auto start = [&](cv::Size size) -> Status {
+  auto start = [&](cv::Size size) -> MaybeError {
     params.camera.width = size.width;
     params.camera.height = size.height;
     started = true;
@@ -137,7 +137,7 @@ int RunSense(const SenseOptions& o) {
     if (!started && stepped.ok() && stepped.value() == FrameStatus::kOk) {
       const cv::Size size =
           script ? cv::Size(params.camera.width, params.camera.height) : in.frames.PeekedSize();
-      if (Status s = start(size)) {
+      if (MaybeError s = start(size)) {
         std::cerr << me << s->Format() << "\n";
         return kExitBadInput;
       }

@@ -169,7 +169,7 @@ Result<DisplayMap> LevelDisplayMap(const LevelParams& params, cv::Size size) {
   return DisplayMap(calibration.value().tableToDisplay);
 }
 
-Status ParseViewOptions(const std::string& list, ViewOptions& options) {
+MaybeError ParseViewOptions(const std::string& list, ViewOptions& options) {
   size_t start = 0;
   while (start <= list.size()) {
     size_t end = list.find(',', start);

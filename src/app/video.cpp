@@ -36,7 +36,7 @@ Result<LevelResult> RunLevelToVideo(const Level& level, const RunOptions& option
   std::optional<DisplayMap> map;
   TableView view;
   cv::VideoWriter writer;
-  Status failure;
+  MaybeError failure;
   bool pngWritten = false;
   cv::Mat lastPicture;
   auto observer = [&](const RunResult& run, const Simulation& sim) {

@@ -315,7 +315,7 @@ class RangeChecker final : public ParamVisitor {
 
 }  // namespace
 
-Status CheckFields(const ParamSection& section) {
+MaybeError CheckFields(const ParamSection& section) {
   RangeChecker checker;
   section.describe(checker);
   if (checker.problem) return MakeError({}, section.name + "." + *checker.problem);
@@ -355,8 +355,8 @@ std::vector<FieldInfo> ListFields(const ParamSection& section) {
   return lister.fields;
 }
 
-Status SetFieldFromText(const ParamSection& section, const std::string& key,
-                        const std::string& text) {
+MaybeError SetFieldFromText(const ParamSection& section, const std::string& key,
+                            const std::string& text) {
   // the setter writes a field only when its new value is valid, so nothing changes on error
   Setter setter(key, text);
   section.describe(setter);

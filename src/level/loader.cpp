@@ -19,14 +19,15 @@ Result<Level> Loader::Load(const std::string& path, std::optional<std::string_vi
   level.path = path;
   toml::table root;
   std::vector<std::string> chain;
-  if (Status s = ReadTree(path, text, SourceLoc{path, 0, 0}, chain, root)) return *s;
+  if (MaybeError s = ReadTree(path, text, SourceLoc{path, 0, 0}, chain, root)) return *s;
   level.files = m_files;
-  if (Status s = Build(root, level)) return *s;
+  if (MaybeError s = Build(root, level)) return *s;
   return level;
 }
 
-Status Loader::ReadTree(const std::string& path, std::optional<std::string_view> text,
-                        const SourceLoc& from, std::vector<std::string>& chain, toml::table& out) {
+MaybeError Loader::ReadTree(const std::string& path, std::optional<std::string_view> text,
+                            const SourceLoc& from, std::vector<std::string>& chain,
+                            toml::table& out) {
   // an include that leads back to a file on the chain would never end
   std::error_code ec;
   const std::string canonical = fs::weakly_canonical(fs::path(path), ec).string();
@@ -75,7 +76,7 @@ Status Loader::ReadTree(const std::string& path, std::optional<std::string_view>
     chain.push_back(path);
     m_chainIds.push_back(id);
     toml::table base;
-    const Status s = ReadTree(includePath, std::nullopt, Loc(include->source()), chain, base);
+    const MaybeError s = ReadTree(includePath, std::nullopt, Loc(include->source()), chain, base);
     chain.pop_back();
     m_chainIds.pop_back();
     if (s) return s;
@@ -113,7 +114,7 @@ std::tuple<int, int, int> Loader::Rank(const SourceLoc& loc) const {
 
 // the earliest error at a key or value; only when there is none, the earliest missing key, so
 // a mistake the user wrote is reported before one they left out
-Status Loader::Earliest(const Errors& errors, const Errors& missing) const {
+MaybeError Loader::Earliest(const Errors& errors, const Errors& missing) const {
   const Errors& first = errors.empty() ? missing : errors;
   if (first.empty()) return std::nullopt;
   return *std::min_element(first.begin(), first.end(), [this](const Error& a, const Error& b) {
@@ -150,8 +151,8 @@ SourceLoc Loader::ValueLoc(const toml::table& t, std::string_view key) {
 }
 
 // the tables of an array of tables, or an error naming the expected form
-Status Loader::TablesOf(const toml::node& n, const std::string& key,
-                        std::vector<const toml::table*>& tables) {
+MaybeError Loader::TablesOf(const toml::node& n, const std::string& key,
+                            std::vector<const toml::table*>& tables) {
   const toml::array* a = n.as_array();
   if (!a) {
     return MakeError(Loc(n.source()),
@@ -166,7 +167,7 @@ Status Loader::TablesOf(const toml::node& n, const std::string& key,
   return std::nullopt;
 }
 
-Status Loader::Build(const toml::table& root, Level& level) {
+MaybeError Loader::Build(const toml::table& root, Level& level) {
   // the top level: only known keys, name and description are strings
   {
     Errors errors;
@@ -190,22 +191,23 @@ Status Loader::Build(const toml::table& root, Level& level) {
       errors.push_back(
           MakeError(Loc(n->source()), "script must be a table [script], got " + TomlTypeName(*n)));
     }
-    if (Status s = Earliest(errors)) return s;
+    if (MaybeError s = Earliest(errors)) return s;
   }
   level.name = root["name"].value_or(fs::path(level.path).stem().string());
   level.description = root["description"].value_or(std::string());
 
-  if (Status s = ReadParams(root, "", level.params)) return s;
-  if (Status s = BuildObjects(root, level)) return s;
-  if (Status s = BuildScript(root, level)) return s;
-  if (Status s = BuildVariants(root, level)) return s;
-  if (Status s = BuildExpectations(root, level)) return s;
-  if (Status s = BuildGoals(root, level)) return s;
+  if (MaybeError s = ReadParams(root, "", level.params)) return s;
+  if (MaybeError s = BuildObjects(root, level)) return s;
+  if (MaybeError s = BuildScript(root, level)) return s;
+  if (MaybeError s = BuildVariants(root, level)) return s;
+  if (MaybeError s = BuildExpectations(root, level)) return s;
+  if (MaybeError s = BuildGoals(root, level)) return s;
   return std::nullopt;
 }
 
 // the parameter tables of `root` (the level, or a variant) applied to params
-Status Loader::ReadParams(const toml::table& root, const std::string& prefix, LevelParams& params) {
+MaybeError Loader::ReadParams(const toml::table& root, const std::string& prefix,
+                              LevelParams& params) {
   Errors errors;
   for (const ParamSection& section : Sections(params)) {
     const toml::table* t = root[section.name].as_table();
@@ -218,11 +220,11 @@ Status Loader::ReadParams(const toml::table& root, const std::string& prefix, Le
   return Earliest(errors);
 }
 
-Status Loader::BuildVariants(const toml::table& root, Level& level) {
+MaybeError Loader::BuildVariants(const toml::table& root, Level& level) {
   const toml::node* node = root.get("variants");
   if (!node) return std::nullopt;
   std::vector<const toml::table*> tables;
-  if (Status s = TablesOf(*node, "variants", tables)) return s;
+  if (MaybeError s = TablesOf(*node, "variants", tables)) return s;
   for (const toml::table* t : tables) {
     Variant variant;
     variant.loc = Loc(t->source());
@@ -243,14 +245,14 @@ Status Loader::BuildVariants(const toml::table& root, Level& level) {
                                    std::string(key) + " must be a table, got " + TomlTypeName(*n)));
       }
     }
-    if (Status s = Earliest(errors, missing)) return s;
+    if (MaybeError s = Earliest(errors, missing)) return s;
     if (variant.name.empty()) return MakeError(ValueLoc(*t, "name"), "name must not be empty");
     if (const Variant* first = level.FindVariant(variant.name)) {
       return MakeError(ValueLoc(*t, "name"), "duplicate variant name '" + variant.name +
                                                  "' (first defined at " + first->loc.Format() +
                                                  ")");
     }
-    if (Status s = ReadParams(*t, "variants.", variant.params)) return s;
+    if (MaybeError s = ReadParams(*t, "variants.", variant.params)) return s;
     level.variants.push_back(std::move(variant));
   }
   return std::nullopt;

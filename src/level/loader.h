@@ -24,8 +24,8 @@ class Loader {
   Result<Level> Load(const std::string& path, std::optional<std::string_view> text);
 
  private:
-  Status ReadTree(const std::string& path, std::optional<std::string_view> text,
-                  const SourceLoc& from, std::vector<std::string>& chain, toml::table& out);
+  MaybeError ReadTree(const std::string& path, std::optional<std::string_view> text,
+                      const SourceLoc& from, std::vector<std::string>& chain, toml::table& out);
 
   // moves over's keys into base: tables merge key by key, the level's arrays of tables append,
   // anything else replaces; depth 0 is the root, depth 1 a table directly under it
@@ -36,7 +36,7 @@ class Loader {
 
   // the earliest error at a key or value; only when there is none, the earliest missing key, so
   // a mistake the user wrote is reported before one they left out
-  Status Earliest(const Errors& errors, const Errors& missing = {}) const;
+  MaybeError Earliest(const Errors& errors, const Errors& missing = {}) const;
 
   static void UnknownKeys(const toml::table& t, const std::vector<std::string>& known,
                           const std::string& where, Errors& errors);
@@ -49,40 +49,40 @@ class Loader {
   static SourceLoc ValueLoc(const toml::table& t, std::string_view key);
 
   // the tables of an array of tables, or an error naming the expected form
-  static Status TablesOf(const toml::node& n, const std::string& key,
-                         std::vector<const toml::table*>& tables);
+  static MaybeError TablesOf(const toml::node& n, const std::string& key,
+                             std::vector<const toml::table*>& tables);
 
-  Status Build(const toml::table& root, Level& level);
+  MaybeError Build(const toml::table& root, Level& level);
 
   // the parameter tables of `root` (the level, or a variant) applied to params
-  Status ReadParams(const toml::table& root, const std::string& prefix, LevelParams& params);
+  MaybeError ReadParams(const toml::table& root, const std::string& prefix, LevelParams& params);
 
-  Status BuildObjects(const toml::table& root, Level& level);
+  MaybeError BuildObjects(const toml::table& root, Level& level);
 
-  Status ReadObject(const toml::table& t, const Level& level, ObjectSpec& o);
+  MaybeError ReadObject(const toml::table& t, const Level& level, ObjectSpec& o);
 
-  Status BuildScript(const toml::table& root, Level& level);
+  MaybeError BuildScript(const toml::table& root, Level& level);
 
   // [script] recording: a video file, relative to the level file that names it, that exists and
   // holds frames; it replaces the contacts
-  static Status ReadRecording(const toml::table& t, Level& level);
+  static MaybeError ReadRecording(const toml::table& t, Level& level);
 
-  Status ReadContact(const toml::table& t, const Script& script, ScriptContact& contact);
+  MaybeError ReadContact(const toml::table& t, const Script& script, ScriptContact& contact);
 
-  Status BuildVariants(const toml::table& root, Level& level);
+  MaybeError BuildVariants(const toml::table& root, Level& level);
 
   // reads an optional region: min + max, or center + radius
-  static Status ReadRegion(const toml::table& t, bool required, const std::string& what,
-                           std::optional<Region>& region);
+  static MaybeError ReadRegion(const toml::table& t, bool required, const std::string& what,
+                               std::optional<Region>& region);
 
-  Status CheckObjectName(const toml::table& t, const char* key, const std::string& name,
-                         const Level& level, bool allowTable);
+  MaybeError CheckObjectName(const toml::table& t, const char* key, const std::string& name,
+                             const Level& level, bool allowTable);
 
-  Status BuildExpectations(const toml::table& root, Level& level);
+  MaybeError BuildExpectations(const toml::table& root, Level& level);
 
-  Status ReadExpectation(const toml::table& t, const Level& level, Expectation& e);
+  MaybeError ReadExpectation(const toml::table& t, const Level& level, Expectation& e);
 
-  Status BuildGoals(const toml::table& root, Level& level);
+  MaybeError BuildGoals(const toml::table& root, Level& level);
 
   std::vector<std::string> m_files;  // files read, each after the files it includes
 

@@ -15,11 +15,11 @@ std::vector<ParamSection> Sections(LevelParams& p) {
   };
 }
 
-Status CheckParams(const LevelParams& p) {
+MaybeError CheckParams(const LevelParams& p) {
   // the sections refer to their struct: describe a copy
   LevelParams copy = p;
   for (const ParamSection& s : Sections(copy)) {
-    if (Status bad = CheckFields(s)) return bad;
+    if (MaybeError bad = CheckFields(s)) return bad;
   }
   return std::nullopt;
 }
@@ -35,7 +35,7 @@ std::vector<std::string> RestartKeys() {
   return keys;
 }
 
-Status SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text) {
+MaybeError SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text) {
   const size_t dot = dottedKey.find('.');
   if (dot == std::string::npos) {
     return MakeError({}, "'" + dottedKey + "' must be section.key, e.g. physics.substeps");

@@ -13,8 +13,8 @@ namespace pg::levelfile {
 namespace fs = std::filesystem;
 
 // reads an optional region: min + max, or center + radius
-Status Loader::ReadRegion(const toml::table& t, bool required, const std::string& what,
-                          std::optional<Region>& region) {
+MaybeError Loader::ReadRegion(const toml::table& t, bool required, const std::string& what,
+                              std::optional<Region>& region) {
   const bool rect = t.contains("min") || t.contains("max");
   const bool circle = t.contains("center") || t.contains("radius");
   if (rect && circle) {
@@ -61,8 +61,8 @@ Status Loader::ReadRegion(const toml::table& t, bool required, const std::string
   return std::nullopt;
 }
 
-Status Loader::CheckObjectName(const toml::table& t, const char* key, const std::string& name,
-                               const Level& level, bool allowTable) {
+MaybeError Loader::CheckObjectName(const toml::table& t, const char* key, const std::string& name,
+                                   const Level& level, bool allowTable) {
   if (allowTable && name == "table") return std::nullopt;
   if (level.FindObject(name)) return std::nullopt;
   std::vector<std::string> names;
@@ -71,20 +71,20 @@ Status Loader::CheckObjectName(const toml::table& t, const char* key, const std:
   return MakeError(ValueLoc(t, key), "unknown object '" + name + "'" + DidYouMean(name, names));
 }
 
-Status Loader::BuildExpectations(const toml::table& root, Level& level) {
+MaybeError Loader::BuildExpectations(const toml::table& root, Level& level) {
   const toml::node* node = root.get("expect");
   if (!node) return std::nullopt;
   std::vector<const toml::table*> tables;
-  if (Status s = TablesOf(*node, "expect", tables)) return s;
+  if (MaybeError s = TablesOf(*node, "expect", tables)) return s;
   for (const toml::table* t : tables) {
     Expectation e;
-    if (Status s = ReadExpectation(*t, level, e)) return s;
+    if (MaybeError s = ReadExpectation(*t, level, e)) return s;
     level.expectations.push_back(std::move(e));
   }
   return std::nullopt;
 }
 
-Status Loader::ReadExpectation(const toml::table& t, const Level& level, Expectation& e) {
+MaybeError Loader::ReadExpectation(const toml::table& t, const Level& level, Expectation& e) {
   e.loc = Loc(t.source());
   // the kind decides which keys belong
   const toml::node* kindNode = t.get("kind");
@@ -153,7 +153,7 @@ Status Loader::ReadExpectation(const toml::table& t, const Level& level, Expecta
   UnknownKeys(t, known, " in " + what, errors);
   Errors missing;
   for (const std::string& key : required) Missing(t, key.c_str(), what, missing);
-  if (Status s = Earliest(errors, missing)) return s;
+  if (MaybeError s = Earliest(errors, missing)) return s;
   if (t.contains("at")) e.at = at;
   if (t.contains("mode")) e.mode = mode;
   if (e.kind == ExpectKind::kRotation && t.contains("above")) e.minAngle = DegToRad(aboveDeg);
@@ -163,7 +163,7 @@ Status Loader::ReadExpectation(const toml::table& t, const Level& level, Expecta
   switch (e.kind) {
     case ExpectKind::kPosition: {
       std::optional<Region> region;
-      if (Status s = ReadRegion(t, true, what, region)) return s;
+      if (MaybeError s = ReadRegion(t, true, what, region)) return s;
       e.region = *region;
       break;
     }
@@ -195,10 +195,10 @@ Status Loader::ReadExpectation(const toml::table& t, const Level& level, Expecta
 
   // names refer to things the level defines
   if (!e.object.empty()) {
-    if (Status s = CheckObjectName(t, "object", e.object, level, false)) return s;
+    if (MaybeError s = CheckObjectName(t, "object", e.object, level, false)) return s;
   }
   if (e.kind == ExpectKind::kResting) {
-    if (Status s = CheckObjectName(t, "on", e.on, level, true)) return s;
+    if (MaybeError s = CheckObjectName(t, "on", e.on, level, true)) return s;
     const ScriptContact* contact = nullptr;
     std::vector<std::string> names;
     for (const ScriptContact& c : level.script.contacts) {
@@ -233,11 +233,11 @@ Status Loader::ReadExpectation(const toml::table& t, const Level& level, Expecta
   return std::nullopt;
 }
 
-Status Loader::BuildGoals(const toml::table& root, Level& level) {
+MaybeError Loader::BuildGoals(const toml::table& root, Level& level) {
   const toml::node* node = root.get("goals");
   if (!node) return std::nullopt;
   std::vector<const toml::table*> tables;
-  if (Status s = TablesOf(*node, "goals", tables)) return s;
+  if (MaybeError s = TablesOf(*node, "goals", tables)) return s;
   for (const toml::table* t : tables) {
     Goal g;
     g.loc = Loc(t->source());
@@ -254,8 +254,8 @@ Status Loader::BuildGoals(const toml::table& root, Level& level) {
     UnknownKeys(*t, reader.known, " in a goal", errors);
     Errors missing;
     Missing(*t, "object", "goal", missing);
-    if (Status s = Earliest(errors, missing)) return s;
-    if (Status s = ReadRegion(*t, false, "a goal", g.zone)) return s;
+    if (MaybeError s = Earliest(errors, missing)) return s;
+    if (MaybeError s = ReadRegion(*t, false, "a goal", g.zone)) return s;
     if (t->contains("angle")) g.angle = DegToRad(angleDeg);
     if (t->contains("tolerance") && !g.angle) {
       return MakeError(KeyLoc(*t, "tolerance"), "tolerance needs angle");
@@ -265,7 +265,7 @@ Status Loader::BuildGoals(const toml::table& root, Level& level) {
       return MakeError(g.loc,
                        "a goal needs a zone (min and max, or center and radius), angle or both");
     }
-    if (Status s = CheckObjectName(*t, "object", g.object, level, false)) return s;
+    if (MaybeError s = CheckObjectName(*t, "object", g.object, level, false)) return s;
     level.goals.push_back(std::move(g));
   }
   return std::nullopt;

@@ -10,21 +10,21 @@ namespace pg::levelfile {
 
 namespace fs = std::filesystem;
 
-Status Loader::BuildObjects(const toml::table& root, Level& level) {
+MaybeError Loader::BuildObjects(const toml::table& root, Level& level) {
   const toml::node* node = root.get("objects");
   if (!node) return std::nullopt;
   std::vector<const toml::table*> tables;
-  if (Status s = TablesOf(*node, "objects", tables)) return s;
+  if (MaybeError s = TablesOf(*node, "objects", tables)) return s;
   for (const toml::table* t : tables) {
     ObjectSpec o;
     o.loc = Loc(t->source());
-    if (Status s = ReadObject(*t, level, o)) return s;
+    if (MaybeError s = ReadObject(*t, level, o)) return s;
     level.objects.push_back(std::move(o));
   }
   return std::nullopt;
 }
 
-Status Loader::ReadObject(const toml::table& t, const Level& level, ObjectSpec& o) {
+MaybeError Loader::ReadObject(const toml::table& t, const Level& level, ObjectSpec& o) {
   // types and ranges of every key, then keys that do not fit the shape
   TableReader reader(t, "");
   DescribeObject(o, reader);
@@ -40,7 +40,7 @@ Status Loader::ReadObject(const toml::table& t, const Level& level, ObjectSpec& 
         t, [&o](std::string_view key) { return ObjectKeyApplies(o.shape, key); }, shapeName,
         shapeName + " object", ObjectSizeKeys(o.shape), errors, missing);
   }
-  if (Status s = Earliest(errors, missing)) return s;
+  if (MaybeError s = Earliest(errors, missing)) return s;
 
   // meaning: a unique name, a valid outline, consistent friction and mass, on the table
   if (o.name.empty()) return MakeError(ValueLoc(t, "name"), "name must not be empty");
@@ -53,7 +53,7 @@ Status Loader::ReadObject(const toml::table& t, const Level& level, ObjectSpec& 
   }
   // the physics module's own checks of the shape, mass and friction, at the key they are about
   std::string field;
-  if (Status s = ValidateObject(o, level.params.physics, &field)) {
+  if (MaybeError s = ValidateObject(o, level.params.physics, &field)) {
     const bool atKey = t.contains(field);
     return MakeError(atKey ? ValueLoc(t, field) : Loc(t.source()), s->message);
   }

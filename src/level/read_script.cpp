@@ -13,7 +13,7 @@ namespace pg::levelfile {
 
 namespace fs = std::filesystem;
 
-Status Loader::BuildScript(const toml::table& root, Level& level) {
+MaybeError Loader::BuildScript(const toml::table& root, Level& level) {
   Script& script = level.script;
   const toml::table* t = root["script"].as_table();
   std::optional<double> duration;
@@ -34,20 +34,20 @@ Status Loader::BuildScript(const toml::table& root, Level& level) {
     reader.Text("recording", script.recording,
                 "a recorded video that replaces the contacts, relative to this file");
     errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
-    if (Status s = Earliest(errors)) return s;
+    if (MaybeError s = Earliest(errors)) return s;
     if (t->contains("duration")) duration = head.duration;
     script.interpolation = head.interpolation;
-    if (Status s = ReadRecording(*t, level)) return s;
+    if (MaybeError s = ReadRecording(*t, level)) return s;
 
     // contacts
     if (const toml::node* contacts = t->get("contacts")) {
       std::vector<const toml::table*> tables;
-      if (Status s = TablesOf(*contacts, "script.contacts", tables)) return s;
+      if (MaybeError s = TablesOf(*contacts, "script.contacts", tables)) return s;
       for (const toml::table* c : tables) {
         ScriptContact contact;
         contact.loc = Loc(c->source());
         contact.interpolation = script.interpolation;
-        if (Status s = ReadContact(*c, script, contact)) return s;
+        if (MaybeError s = ReadContact(*c, script, contact)) return s;
         script.contacts.push_back(std::move(contact));
       }
     }
@@ -72,7 +72,7 @@ Status Loader::BuildScript(const toml::table& root, Level& level) {
 
 // [script] recording: a video file, relative to the level file that names it, that exists and
 // holds frames; it replaces the contacts
-Status Loader::ReadRecording(const toml::table& t, Level& level) {
+MaybeError Loader::ReadRecording(const toml::table& t, Level& level) {
   Script& script = level.script;
   if (script.recording.empty()) {
     if (t.contains("recording")) return MakeError(ValueLoc(t, "recording"), "recording is empty");
@@ -104,7 +104,7 @@ Status Loader::ReadRecording(const toml::table& t, Level& level) {
   return std::nullopt;
 }
 
-Status Loader::ReadContact(const toml::table& t, const Script& script, ScriptContact& contact) {
+MaybeError Loader::ReadContact(const toml::table& t, const Script& script, ScriptContact& contact) {
   // name, interpolation and the shape's keys
   TableReader reader(t, "");
   reader.Text("name", contact.name, "unique name, used by resting expectations (required)");
@@ -125,7 +125,7 @@ Status Loader::ReadContact(const toml::table& t, const Script& script, ScriptCon
         t, [kind](std::string_view key) { return ContactKeyApplies(kind, key); },
         shapeName + " contact", shapeName + " contact", ContactSizeKeys(kind), errors, missing);
   }
-  if (Status s = Earliest(errors, missing)) return s;
+  if (MaybeError s = Earliest(errors, missing)) return s;
 
   // a unique name and a valid outline
   if (contact.name.empty()) return MakeError(ValueLoc(t, "name"), "name must not be empty");
@@ -170,7 +170,7 @@ Status Loader::ReadContact(const toml::table& t, const Script& script, ScriptCon
     UnknownKeys(*k, keyReader.known, " in a keyframe", keyErrors);
     Missing(*k, "t", "keyframe", keyMissing);
     Missing(*k, "pos", "keyframe", keyMissing);
-    if (Status s = Earliest(keyErrors, keyMissing)) return s;
+    if (MaybeError s = Earliest(keyErrors, keyMissing)) return s;
     if (!contact.keys.empty() && key.t <= contact.keys.back().t) {
       return MakeError(key.loc, "keyframe out of order: t = " + FormatDouble(key.t) +
                                     " s is not after the previous keyframe's t = " +

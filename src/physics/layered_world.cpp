@@ -19,9 +19,9 @@ Error ParamError(const std::string& key, const std::string& what) {
   return MakeError(SourceLoc{}, "physics." + key + " " + what);
 }
 
-Status ValidateParams(const PhysicsParams& p, const TableParams& t) {
+MaybeError ValidateParams(const PhysicsParams& p, const TableParams& t) {
   // every range comes from the parameters' description
-  if (Status s = CheckDescribed("physics", p)) return s;
+  if (MaybeError s = CheckDescribed("physics", p)) return s;
   if (!(t.width > 0 && t.height > 0 && t.wallThickness > 0)) {
     return MakeError(SourceLoc{}, "table width, height and wall_thickness must be > 0");
   }
@@ -92,15 +92,15 @@ LayeredWorld::~LayeredWorld() = default;
 LayeredWorld::LayeredWorld(LayeredWorld&&) noexcept = default;
 LayeredWorld& LayeredWorld::operator=(LayeredWorld&&) noexcept = default;
 
-Status LayeredWorld::Build(const PhysicsParams& physics, const TableParams& table,
-                           std::span<const ObjectSpec> objects) {
+MaybeError LayeredWorld::Build(const PhysicsParams& physics, const TableParams& table,
+                               std::span<const ObjectSpec> objects) {
   // nothing is half-built: start from an empty world, fill it only when everything validated
   m_impl = std::make_unique<Impl>();
   Impl& w = *m_impl;
   w.pool = std::make_unique<ThreadPool>(1);
-  if (Status s = ValidateParams(physics, table)) return s;
+  if (MaybeError s = ValidateParams(physics, table)) return s;
   for (const ObjectSpec& spec : objects) {
-    if (Status s = ValidateObject(spec, physics)) return s;
+    if (MaybeError s = ValidateObject(spec, physics)) return s;
     const MassProps props = ComputeMassProps(spec);
     const Vec2 c = spec.pose.Apply(props.centroid);
     if (c.x() < 0 || c.x() > table.width || c.y() < 0 || c.y() > table.height) {
@@ -507,10 +507,10 @@ std::vector<std::string> LayeredWorld::FixedKeysChanged(const PhysicsParams& phy
   return RestartKeysChanged("physics", m_impl->params, physics);
 }
 
-Status LayeredWorld::SetParams(const PhysicsParams& physics) {
+MaybeError LayeredWorld::SetParams(const PhysicsParams& physics) {
   Impl& w = *m_impl;
   if (w.layers.empty()) return MakeError(SourceLoc{}, "physics: SetParams before Build");
-  if (Status s = ValidateParams(physics, w.table)) return s;
+  if (MaybeError s = ValidateParams(physics, w.table)) return s;
   const std::vector<std::string> fixed = FixedKeysChanged(physics);
   if (!fixed.empty()) {
     return ParamError(fixed.front(), "cannot change while the world runs; rebuild it");

@@ -105,17 +105,17 @@ double ObjectHeight(const ObjectSpec& spec) {
   return spec.shape == ObjectShape::kSphere ? 2.0 * spec.radius : spec.height;
 }
 
-Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params, std::string* field) {
+MaybeError ValidateObject(const ObjectSpec& spec, const PhysicsParams& params, std::string* field) {
   // every problem names the field it is in
   auto fail = [&](const std::string& key, const std::string& what) {
     if (field) *field = key;
     return FieldError(spec, key, what);
   };
-  auto positive = [&](const char* key, double v) -> Status {
+  auto positive = [&](const char* key, double v) -> MaybeError {
     if (!(v > 0) || !std::isfinite(v)) return fail(key, "must be > 0 (got " + Num(v) + ")");
     return std::nullopt;
   };
-  auto nonNegative = [&](const char* key, double v) -> Status {
+  auto nonNegative = [&](const char* key, double v) -> MaybeError {
     if (!(v >= 0) || !std::isfinite(v)) {
       return fail(key, "must be >= 0 (got " + Num(v) + ")");
     }
@@ -123,7 +123,7 @@ Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params, std::
   };
 
   // shape dimensions
-  Status s;
+  MaybeError s;
   switch (spec.shape) {
     case ObjectShape::kBox:
       if ((s = positive("size_x", spec.sizeX)) || (s = positive("size_y", spec.sizeY))) return s;

@@ -160,8 +160,8 @@ void Count(ParticlePlan& plan) {
 
 }  // namespace
 
-Status ProxyStage::SetParams(const ProxyParams& params) {
-  if (Status s = CheckDescribed("proxies", params)) return s;
+MaybeError ProxyStage::SetParams(const ProxyParams& params) {
+  if (MaybeError s = CheckDescribed("proxies", params)) return s;
   m_params = params;
   return std::nullopt;
 }

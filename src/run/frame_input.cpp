@@ -43,7 +43,7 @@ void FrameInput::SetContours(ContourFrame contours) {
 
 Result<FrameStatus> FrameInput::Step(Simulation& sim) {
   m_lastError.clear();
-  Status status;
+  MaybeError status;
   switch (m_kind) {
     case Kind::kScript:
       status = sim.StepScript();
@@ -95,7 +95,7 @@ FrameStatus FrameInput::Peek() {
   return read;
 }
 
-Status FrameInput::Reconnect() {
+MaybeError FrameInput::Reconnect() {
   if (m_kind != Kind::kSource) return std::nullopt;
   m_peeked = false;
   m_framesRead = 0;

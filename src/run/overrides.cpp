@@ -13,12 +13,12 @@ Error ArgumentError(const std::string& argument, const std::string& message) {
 
 // applies each argument through set(key, value) to a copy, and keeps the copy only when all pass
 template <typename T, typename SetFn>
-Status ApplyAll(T& target, const std::vector<std::string>& arguments, SetFn set) {
+MaybeError ApplyAll(T& target, const std::vector<std::string>& arguments, SetFn set) {
   T probe = target;
   for (const std::string& argument : arguments) {
     Result<Override> o = ParseOverride(argument);
     if (!o.ok()) return o.error();
-    if (Status s = set(probe, o.value().key, o.value().value)) {
+    if (MaybeError s = set(probe, o.value().key, o.value().value)) {
       return ArgumentError(argument, s->Format());
     }
   }
@@ -34,24 +34,24 @@ Result<Override> ParseOverride(const std::string& argument) {
   return Override{argument.substr(0, eq), argument.substr(eq + 1)};
 }
 
-Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text) {
+MaybeError SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text) {
   // check on a copy first so an error leaves every parameter set as it was
   LevelParams probe = level.params;
-  if (Status s = SetParam(probe, dottedKey, text)) return s;
+  if (MaybeError s = SetParam(probe, dottedKey, text)) return s;
   level.params = probe;
   for (Variant& v : level.variants) {
-    const Status s = SetParam(v.params, dottedKey, text);
+    const MaybeError s = SetParam(v.params, dottedKey, text);
     assert(!s && "a key valid for the level is valid for its variants");
     (void)s;
   }
   return std::nullopt;
 }
 
-Status ApplyOverrides(Level& level, const std::vector<std::string>& arguments) {
+MaybeError ApplyOverrides(Level& level, const std::vector<std::string>& arguments) {
   return ApplyAll(level, arguments, SetLevelParam);
 }
 
-Status ApplyOverrides(LevelParams& params, const std::vector<std::string>& arguments) {
+MaybeError ApplyOverrides(LevelParams& params, const std::vector<std::string>& arguments) {
   return ApplyAll(params, arguments, SetParam);
 }
 

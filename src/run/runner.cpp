@@ -35,7 +35,7 @@ std::string RunTraceDir(const RunOptions& options, const std::string& runName, s
 Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptions& options,
                          size_t runCount, Profile& profile, const FrameObserver& observer) {
   Simulation sim;
-  if (Status s = sim.Start(level, RunParams(level, run))) return *s;
+  if (MaybeError s = sim.Start(level, RunParams(level, run))) return *s;
   RunResult out;
   out.run = run;
   out.name = RunName(run);
@@ -53,12 +53,12 @@ Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptio
   // traces stream to disk as the run goes: the trace folder, and the recording with its own
   TraceWriter trace;
   if (!out.traceDir.empty()) {
-    if (Status s = trace.Open(out.traceDir)) return *s;
+    if (MaybeError s = trace.Open(out.traceDir)) return *s;
   }
   TraceWriter recording;
   if (!options.record.empty()) {
-    if (Status s = recording.Open(RecordingTraceDir(options.record), options.record,
-                                  sim.CameraSize(), sim.params().physics.frameRate)) {
+    if (MaybeError s = recording.Open(RecordingTraceDir(options.record), options.record,
+                                      sim.CameraSize(), sim.params().physics.frameRate)) {
       return *s;
     }
   }
@@ -79,14 +79,14 @@ Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptio
     out.frames = i + 1;
     for (TraceWriter* writer : {&trace, &recording}) {
       if (!writer->IsOpen()) continue;
-      if (Status s = writer->Write(sim)) return *s;
+      if (MaybeError s = writer->Write(sim)) return *s;
     }
     profile.Add(sim.stats());
     evaluator.AfterFrame(sim, sim.Time(), out.results);
     if (observer) observer(out, sim);
   }
   for (TraceWriter* writer : {&trace, &recording}) {
-    if (Status s = writer->Close()) return *s;
+    if (MaybeError s = writer->Close()) return *s;
   }
   evaluator.Finish(sim, static_cast<double>(out.frames) * frameDuration, out.results);
   return out;

@@ -8,8 +8,8 @@
 
 namespace pg {
 
-Status Simulation::Start(const Level& level, const LevelParams& params,
-                         const SimulationOptions& options) {
+MaybeError Simulation::Start(const Level& level, const LevelParams& params,
+                             const SimulationOptions& options) {
   // build into fresh stages so a failed start keeps nothing half-made
   Simulation next;
   next.m_level = level;
@@ -17,7 +17,7 @@ Status Simulation::Start(const Level& level, const LevelParams& params,
   next.m_options = options;
   next.m_camera = std::make_unique<SyntheticCamera>(params.camera, params.table);
   const cv::Size size(params.camera.width, params.camera.height);
-  if (Status s = next.m_sensor.Configure(params.sensing, params.table, size)) {
+  if (MaybeError s = next.m_sensor.Configure(params.sensing, params.table, size)) {
     if (s->loc.file.empty()) s->loc.file = level.path;
     return s;
   }
@@ -25,19 +25,19 @@ Status Simulation::Start(const Level& level, const LevelParams& params,
   // unless the sensing parameters ask to capture one from the first frames
   if (options.cameraBackground && params.sensing.backgroundFrames == 0 &&
       !next.m_sensor.HasBackground()) {
-    if (Status s = next.m_sensor.SetBackground(next.m_camera->Background())) return s;
+    if (MaybeError s = next.m_sensor.SetBackground(next.m_camera->Background())) return s;
     next.m_backgroundFromCamera = true;
   }
-  if (Status s = next.m_tracker.SetParams(params.tracking)) return s;
-  if (Status s = next.m_proxies.SetParams(params.proxies)) return s;
-  if (Status s = next.m_world.Build(params.physics, params.table, level.objects)) return s;
+  if (MaybeError s = next.m_tracker.SetParams(params.tracking)) return s;
+  if (MaybeError s = next.m_proxies.SetParams(params.proxies)) return s;
+  if (MaybeError s = next.m_world.Build(params.physics, params.table, level.objects)) return s;
   *this = std::move(next);
   return std::nullopt;
 }
 
 Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
   if (!m_camera) return MakeError({m_level.path}, "the simulation has not started");
-  if (Status s = CheckParams(params)) return *s;
+  if (MaybeError s = CheckParams(params)) return *s;
 
   // every changed key, live or restart as its description says (Apply)
   RetuneReport report;
@@ -56,17 +56,17 @@ Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
 
   // every stage takes the change in place (the fixed keys and ranges were checked above, so none
   // rejects it)
-  if (Status s = m_sensor.SetParams(params.sensing)) return *s;
-  if (Status s = m_camera->SetParams(params.camera)) return *s;
-  if (Status s = m_world.SetParams(params.physics)) return *s;
-  if (Status s = m_tracker.SetParams(params.tracking)) return *s;
-  if (Status s = m_proxies.SetParams(params.proxies)) return *s;
+  if (MaybeError s = m_sensor.SetParams(params.sensing)) return *s;
+  if (MaybeError s = m_camera->SetParams(params.camera)) return *s;
+  if (MaybeError s = m_world.SetParams(params.physics)) return *s;
+  if (MaybeError s = m_tracker.SetParams(params.tracking)) return *s;
+  if (MaybeError s = m_proxies.SetParams(params.proxies)) return *s;
   // a background taken from the camera's clear table follows its lighting
   const bool lighting = params.camera.background != m_params.camera.background ||
                         params.camera.gradient != m_params.camera.gradient ||
                         params.camera.vignetting != m_params.camera.vignetting;
   if (lighting && m_backgroundFromCamera) {
-    if (Status s = m_sensor.SetBackground(m_camera->Background())) return *s;
+    if (MaybeError s = m_sensor.SetBackground(m_camera->Background())) return *s;
   }
   m_params = params;
   return report;
@@ -76,7 +76,7 @@ double Simulation::Time() const {
   return static_cast<double>(m_frame) * FrameDuration();
 }
 
-Status Simulation::StepScript() {
+MaybeError Simulation::StepScript() {
   m_shapeScript.clear();
   std::vector<ContactShape> shapes = ShapesAt(m_level.script, Time(), &m_shapeScript);
   m_shapes = std::move(shapes);
@@ -84,21 +84,21 @@ Status Simulation::StepScript() {
   return Process(m_image);
 }
 
-Status Simulation::StepShapes(std::span<const ContactShape> shapes) {
+MaybeError Simulation::StepShapes(std::span<const ContactShape> shapes) {
   m_shapes.assign(shapes.begin(), shapes.end());
   m_shapeScript.assign(m_shapes.size(), -1);
   m_image = m_camera->Render(m_shapes);
   return Process(m_image);
 }
 
-Status Simulation::StepImage(const cv::Mat& frame) {
+MaybeError Simulation::StepImage(const cv::Mat& frame) {
   m_shapes.clear();
   m_shapeScript.clear();
   m_image = frame;
   return Process(m_image);
 }
 
-Status Simulation::StepContours(const ContourFrame& contours) {
+MaybeError Simulation::StepContours(const ContourFrame& contours) {
   m_shapes.clear();
   m_shapeScript.clear();
   m_image.release();
@@ -110,7 +110,7 @@ Status Simulation::StepContours(const ContourFrame& contours) {
   return std::nullopt;
 }
 
-Status Simulation::Process(const cv::Mat& frame) {
+MaybeError Simulation::Process(const cv::Mat& frame) {
   FrameStats stats;
   stats.frame = m_frame;
   stats.time = Time();

@@ -38,12 +38,12 @@ std::string FrameRow(const FrameStats& f, double t) {
          FormatFixed(f.totalMs, 4) + "\n";
 }
 
-Status TraceWriter::Open(const std::string& dir, const std::string& videoPath, cv::Size size,
-                         double frameRate) {
+MaybeError TraceWriter::Open(const std::string& dir, const std::string& videoPath, cv::Size size,
+                             double frameRate) {
   Close();
   // the video first: a folder that cannot hold it gets no trace folder made beside it either
   if (!videoPath.empty()) {
-    if (Status s = m_recorder.Open(videoPath, size, frameRate)) return s;
+    if (MaybeError s = m_recorder.Open(videoPath, size, frameRate)) return s;
   }
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -68,10 +68,10 @@ Status TraceWriter::Open(const std::string& dir, const std::string& videoPath, c
   return std::nullopt;
 }
 
-Status TraceWriter::Write(const Simulation& sim) {
+MaybeError TraceWriter::Write(const Simulation& sim) {
   if (!IsOpen()) return MakeError({}, "the trace is not open");
   if (m_recorder.IsOpen()) {
-    if (Status s = m_recorder.Write(sim.cameraImage())) return s;
+    if (MaybeError s = m_recorder.Write(sim.cameraImage())) return s;
   }
   // each frame's rows reach the file before the next frame: a run that is stopped keeps them
   if (!(m_objects << ObjectRows(sim) << std::flush)) {
@@ -84,9 +84,9 @@ Status TraceWriter::Write(const Simulation& sim) {
   return std::nullopt;
 }
 
-Status TraceWriter::Close() {
+MaybeError TraceWriter::Close() {
   m_recorder.Close();
-  Status status;
+  MaybeError status;
   for (std::ofstream* file : {&m_objects, &m_frameRows}) {
     if (!file->is_open()) continue;
     file->close();

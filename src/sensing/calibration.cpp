@@ -159,7 +159,7 @@ Calibration CalibrationFromModel(const CameraModel& model, cv::Mat background) {
   return c;
 }
 
-Status SaveCalibration(const std::string& path, const Calibration& c) {
+MaybeError SaveCalibration(const std::string& path, const Calibration& c) {
   try {
     cv::FileStorage fs(path, cv::FileStorage::WRITE | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) return MakeError({path}, "cannot write calibration file");
@@ -180,8 +180,8 @@ Status SaveCalibration(const std::string& path, const Calibration& c) {
 namespace {
 
 // reads a required matrix field of a given shape; a missing or misshapen field is an error
-Status ReadMatrix(const cv::FileStorage& fs, const std::string& path, const char* key, int rows,
-                  int cols, cv::Mat& out) {
+MaybeError ReadMatrix(const cv::FileStorage& fs, const std::string& path, const char* key, int rows,
+                      int cols, cv::Mat& out) {
   const cv::FileNode node = fs[key];
   if (node.empty() || node.isNone())
     return MakeError({path}, std::string("field '") + key + "' is missing");
@@ -203,8 +203,8 @@ Status ReadMatrix(const cv::FileStorage& fs, const std::string& path, const char
   return std::nullopt;
 }
 
-Status ReadPositiveInt(const cv::FileStorage& fs, const std::string& path, const char* key,
-                       int& out) {
+MaybeError ReadPositiveInt(const cv::FileStorage& fs, const std::string& path, const char* key,
+                           int& out) {
   const cv::FileNode node = fs[key];
   if (node.empty() || node.isNone())
     return MakeError({path}, std::string("field '") + key + "' is missing");
@@ -241,19 +241,19 @@ Result<Calibration> LoadCalibration(const std::string& path) {
   Calibration c;
   cv::Mat k, d, h, disp;
   // parse every field, then validate as a whole
-  if (Status s = ReadPositiveInt(fs, path, "image_width", c.imageSize.width)) return *s;
-  if (Status s = ReadPositiveInt(fs, path, "image_height", c.imageSize.height)) return *s;
-  if (Status s = ReadMatrix(fs, path, "camera_matrix", 3, 3, k)) return *s;
-  if (Status s = ReadMatrix(fs, path, "dist_coeffs", 0, 0, d)) return *s;
+  if (MaybeError s = ReadPositiveInt(fs, path, "image_width", c.imageSize.width)) return *s;
+  if (MaybeError s = ReadPositiveInt(fs, path, "image_height", c.imageSize.height)) return *s;
+  if (MaybeError s = ReadMatrix(fs, path, "camera_matrix", 3, 3, k)) return *s;
+  if (MaybeError s = ReadMatrix(fs, path, "dist_coeffs", 0, 0, d)) return *s;
   if (d.rows != 1 && d.cols != 1)
     return MakeError({path}, "field 'dist_coeffs' must be a vector (got " + SizeText(d) + ")");
-  if (Status s = ReadMatrix(fs, path, "camera_to_table", 3, 3, h)) return *s;
+  if (MaybeError s = ReadMatrix(fs, path, "camera_to_table", 3, 3, h)) return *s;
   c.cameraMatrix = k;
   c.distCoeffs = d.reshape(1, 1).clone();
   c.cameraToTable = cv::Matx33d(h.ptr<double>());
   // table_to_display is optional: the app falls back to the default display map
   if (!fs["table_to_display"].empty()) {
-    if (Status s = ReadMatrix(fs, path, "table_to_display", 3, 3, disp)) return *s;
+    if (MaybeError s = ReadMatrix(fs, path, "table_to_display", 3, 3, disp)) return *s;
     c.tableToDisplay = cv::Matx33d(disp.ptr<double>());
   } else {
     c.tableToDisplay = DefaultTableToDisplay(TableParams{});

@@ -65,7 +65,7 @@ class CameraSource : public FrameSource {
  public:
   CameraSource(int index, std::string path) : m_index(index), m_path(std::move(path)) {}
 
-  Status Open() {
+  MaybeError Open() {
     QuietOpenCv quiet;
     try {
       m_capture.release();
@@ -104,7 +104,7 @@ class CameraSource : public FrameSource {
   std::string Describe() const override {
     return m_path.empty() ? "camera " + std::to_string(m_index) : "camera " + m_path;
   }
-  Status Reopen() override { return Open(); }
+  MaybeError Reopen() override { return Open(); }
   double FrameRate() const override {
     return m_capture.isOpened() ? m_capture.get(cv::CAP_PROP_FPS) : 0.0;
   }
@@ -119,7 +119,7 @@ class VideoSource : public FrameSource {
  public:
   explicit VideoSource(std::string path) : m_path(std::move(path)) {}
 
-  Status Open() {
+  MaybeError Open() {
     QuietOpenCv quiet;
     try {
       // FFmpeg reads every common container; other backends only when it is missing
@@ -291,7 +291,7 @@ Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec) {
       if (!fs::exists(path)) return MakeError({spec}, "no such camera device");
     }
     auto camera = std::make_unique<CameraSource>(index, path);
-    if (Status s = camera->Open()) return MakeError({spec}, s->message);
+    if (MaybeError s = camera->Open()) return MakeError({spec}, s->message);
     return Ptr(std::move(camera));
   }
 
@@ -316,7 +316,7 @@ Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec) {
   }
   if (wantFolder) return MakeError({path}, "is not a directory");
   auto video = std::make_unique<VideoSource>(path);
-  if (Status s = video->Open()) return *s;
+  if (MaybeError s = video->Open()) return *s;
   return Ptr(std::move(video));
 }
 

@@ -2,7 +2,7 @@
 
 namespace pg {
 
-Status FrameRecorder::Open(const std::string& path, cv::Size size, double fps) {
+MaybeError FrameRecorder::Open(const std::string& path, cv::Size size, double fps) {
   Close();
   if (size.width <= 0 || size.height <= 0 || !(fps > 0.0)) {
     return MakeError({path}, "cannot record frames of size " + std::to_string(size.width) + "x" +
@@ -20,7 +20,7 @@ Status FrameRecorder::Open(const std::string& path, cv::Size size, double fps) {
   return std::nullopt;
 }
 
-Status FrameRecorder::Write(const cv::Mat& frame) {
+MaybeError FrameRecorder::Write(const cv::Mat& frame) {
   if (!m_writer.isOpened()) return MakeError({m_path}, "the recording is not open");
   if (frame.type() != CV_8UC1 || frame.size() != m_size) {
     return MakeError({m_path}, "frame " + std::to_string(m_frames) + " is " +

@@ -39,7 +39,7 @@ Vec2 ApplyHomography(const cv::Matx33d& h, double x, double y) {
 
 // what Configure and SetParams require beyond the described ranges
 // every range comes from the parameters' description
-Status CheckSensingParams(const SensingParams& params) {
+MaybeError CheckSensingParams(const SensingParams& params) {
   return CheckDescribed("sensing", params);
 }
 
@@ -116,8 +116,8 @@ cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin) {
   return out;
 }
 
-Status Sensor::Configure(const SensingParams& params, const TableParams& table,
-                         cv::Size imageSize) {
+MaybeError Sensor::Configure(const SensingParams& params, const TableParams& table,
+                             cv::Size imageSize) {
   if (params.calibration.empty())
     return Configure(params, table, LinearCalibration(imageSize, table), "linear calibration");
   Result<Calibration> c = LoadCalibration(params.calibration);
@@ -129,10 +129,10 @@ Status Sensor::Configure(const SensingParams& params, const TableParams& table,
   return Configure(params, table, c.value(), params.calibration);
 }
 
-Status Sensor::Configure(const SensingParams& params, const TableParams& table,
-                         const Calibration& calibration, const std::string& source) {
+MaybeError Sensor::Configure(const SensingParams& params, const TableParams& table,
+                             const Calibration& calibration, const std::string& source) {
   m_configured = false;
-  if (Status s = CheckSensingParams(params)) return s;
+  if (MaybeError s = CheckSensingParams(params)) return s;
   Result<CameraModel> model = ModelFromCalibration(calibration, source);
   if (!model) return model.error();
 
@@ -151,9 +151,9 @@ Status Sensor::Configure(const SensingParams& params, const TableParams& table,
   return std::nullopt;
 }
 
-Status Sensor::SetParams(const SensingParams& params) {
+MaybeError Sensor::SetParams(const SensingParams& params) {
   if (!m_configured) return MakeError({"sensing"}, "the sensor is not configured");
-  if (Status s = CheckSensingParams(params)) return s;
+  if (MaybeError s = CheckSensingParams(params)) return s;
   const std::vector<std::string> fixed = FixedKeysChanged(params);
   if (!fixed.empty()) {
     return MakeError({"sensing." + fixed.front()},
@@ -174,7 +174,7 @@ std::vector<std::string> Sensor::FixedKeysChanged(const SensingParams& params) c
   return RestartKeysChanged("sensing", m_params, params);
 }
 
-Status Sensor::SetBackground(const cv::Mat& background) {
+MaybeError Sensor::SetBackground(const cv::Mat& background) {
   const cv::Size expected = m_model.imageSize;
   if (background.empty() || background.type() != CV_8UC1 || background.size() != expected)
     return MakeError({"background"},

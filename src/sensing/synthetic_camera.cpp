@@ -401,7 +401,7 @@ void SyntheticCamera::DrawNoiseBank() {
   for (float& n : m_noiseBank) n = static_cast<float>(m_rng.Normal());
 }
 
-Status SyntheticCamera::SetParams(const SyntheticCameraParams& params) {
+MaybeError SyntheticCamera::SetParams(const SyntheticCameraParams& params) {
   const std::vector<std::string> fixed = FixedKeysChanged(params);
   if (!fixed.empty()) {
     return MakeError({"camera." + fixed.front()},

@@ -6,8 +6,8 @@
 
 namespace pg {
 
-Status Tracker::SetParams(const TrackingParams& params) {
-  if (Status s = CheckDescribed("tracking", params)) return s;
+MaybeError Tracker::SetParams(const TrackingParams& params) {
+  if (MaybeError s = CheckDescribed("tracking", params)) return s;
   m_params = params;
   return std::nullopt;
 }

@@ -107,7 +107,7 @@ TEST(ViewOptions, ParsesAListOfOverlays) {
   EXPECT_FALSE(options.hud);
   EXPECT_EQ(options.layer, 2);
   ASSERT_FALSE(ParseViewOptions("", options));
-  const Status bad = ParseViewOptions("forces,frcs", options);
+  const MaybeError bad = ParseViewOptions("forces,frcs", options);
   ASSERT_TRUE(bad);
   EXPECT_NE(bad->message.find("unknown view 'frcs'"), std::string::npos) << bad->message;
   EXPECT_TRUE(ParseViewOptions("layer=x", options));

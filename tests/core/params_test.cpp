@@ -64,16 +64,16 @@ TEST(Params, SetsEachType) {
 TEST(Params, RejectsBadValuesAndKeepsOldOnes) {
   Sample s;
   const ParamSection section = SectionOf(s);
-  const Status range = SetFieldFromText(section, "length", "11");
+  const MaybeError range = SetFieldFromText(section, "length", "11");
   ASSERT_TRUE(range);
   EXPECT_EQ(range->message, "sample.length: value 11 is out of range [0, 10] cm");
-  const Status type = SetFieldFromText(section, "count", "2.5");
+  const MaybeError type = SetFieldFromText(section, "count", "2.5");
   ASSERT_TRUE(type);
   EXPECT_EQ(type->message, "sample.count: expected an integer, got '2.5'");
-  const Status choice = SetFieldFromText(section, "color", "blue");
+  const MaybeError choice = SetFieldFromText(section, "color", "blue");
   ASSERT_TRUE(choice);
   EXPECT_EQ(choice->message, "sample.color: 'blue' is not one of: red, green");
-  const Status unknown = SetFieldFromText(section, "lenght", "1");
+  const MaybeError unknown = SetFieldFromText(section, "lenght", "1");
   ASSERT_TRUE(unknown);
   EXPECT_EQ(unknown->message, "unknown key 'sample.lenght' (did you mean 'length'?)");
   EXPECT_EQ(s.length, 2.5);
@@ -96,20 +96,20 @@ TEST(Params, CheckFieldsNamesTheFirstValueOutOfItsRange) {
   // values set in code, not through text, are checked against the same ranges
   s.count = 0;
   s.length = 12.0;
-  const Status both = CheckFields(SectionOf(s));
+  const MaybeError both = CheckFields(SectionOf(s));
   ASSERT_TRUE(both);
   EXPECT_EQ(both->message, "sample.length must be in [0, 10] cm (got 12)");
   s.length = std::nan("");
-  const Status nan = CheckFields(SectionOf(s));
+  const MaybeError nan = CheckFields(SectionOf(s));
   ASSERT_TRUE(nan);
   EXPECT_EQ(nan->message, "sample.length must be in [0, 10] cm (got nan)");
   s.length = 1.0;
-  const Status count = CheckFields(SectionOf(s));
+  const MaybeError count = CheckFields(SectionOf(s));
   ASSERT_TRUE(count);
   EXPECT_EQ(count->message, "sample.count must be in [1, 5] (got 0)");
   s.count = 1;
   s.color = static_cast<Color>(2);
-  const Status choice = CheckFields(SectionOf(s));
+  const MaybeError choice = CheckFields(SectionOf(s));
   ASSERT_TRUE(choice);
   EXPECT_EQ(choice->message, "sample.color must be one of red, green (got index 2)");
 }
@@ -155,7 +155,7 @@ TEST(Params, EachFieldSaysWhenAChangeTakesEffect) {
             (std::vector<std::string>{"length", "count", "path"}));
   EXPECT_TRUE(RestartKeysChanged("sample", s, s).empty());
   next.count = 9;
-  const Status bad = CheckDescribed("sample", next);
+  const MaybeError bad = CheckDescribed("sample", next);
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->Format(), "sample.count must be in [1, 5] (got 9)");
   EXPECT_FALSE(CheckDescribed("sample", s));
@@ -192,22 +192,22 @@ TEST(Params, SetsAnglesVectorsAndPoints) {
 TEST(Params, RejectsBadVectorsAndPointsAndKeepsOldOnes) {
   Shape s;
   const ParamSection section = SectionOf(s);
-  const Status angle = SetFieldFromText(section, "heading", "400");
+  const MaybeError angle = SetFieldFromText(section, "heading", "400");
   ASSERT_TRUE(angle);
   EXPECT_EQ(angle->message, "shape.heading: value 400 is out of range [-360, 360] deg");
-  const Status three = SetFieldFromText(section, "pos", "[1, 2, 3]");
+  const MaybeError three = SetFieldFromText(section, "pos", "[1, 2, 3]");
   ASSERT_TRUE(three);
   EXPECT_EQ(three->message, "shape.pos: expected [x, y], got '[1, 2, 3]'");
-  const Status far = SetFieldFromText(section, "pos", "[1, 20]");
+  const MaybeError far = SetFieldFromText(section, "pos", "[1, 20]");
   ASSERT_TRUE(far);
   EXPECT_EQ(far->message, "shape.pos: value [1, 20] is out of range [-10, 10] cm");
-  const Status flat = SetFieldFromText(section, "outline", "[0, 1]");
+  const MaybeError flat = SetFieldFromText(section, "outline", "[0, 1]");
   ASSERT_TRUE(flat);
   EXPECT_EQ(flat->message, "shape.outline: expected [[x, y], ...], got '[0, 1]'");
-  const Status outside = SetFieldFromText(section, "outline", "[[0, 0], [6, 0]]");
+  const MaybeError outside = SetFieldFromText(section, "outline", "[[0, 0], [6, 0]]");
   ASSERT_TRUE(outside);
   EXPECT_EQ(outside->message, "shape.outline: point [6, 0] is out of range [-5, 5] cm");
-  const Status open = SetFieldFromText(section, "outline", "[[0, 0], [1, 0]");
+  const MaybeError open = SetFieldFromText(section, "outline", "[[0, 0], [1, 0]");
   ASSERT_TRUE(open);
   EXPECT_DOUBLE_EQ(s.heading, 0.5 * kPi);
   EXPECT_EQ(s.pos, Vec2(1, 2));
@@ -226,16 +226,16 @@ TEST(Params, CheckFieldsCoversAnglesVectorsAndPoints) {
   Shape s;
   EXPECT_FALSE(CheckFields(SectionOf(s)));
   s.outline[1] = Vec2(6, 0);
-  const Status point = CheckFields(SectionOf(s));
+  const MaybeError point = CheckFields(SectionOf(s));
   ASSERT_TRUE(point);
   EXPECT_EQ(point->message, "shape.outline must have each coordinate in [-5, 5] cm (got [6, 0])");
   s.pos = Vec2(0, -11);
-  const Status pos = CheckFields(SectionOf(s));
+  const MaybeError pos = CheckFields(SectionOf(s));
   ASSERT_TRUE(pos);
   EXPECT_EQ(pos->message, "shape.pos must have each coordinate in [-10, 10] cm (got [0, -11])");
   // angles are checked in degrees, as they are written
   s.heading = DegToRad(400);
-  const Status angle = CheckFields(SectionOf(s));
+  const MaybeError angle = CheckFields(SectionOf(s));
   ASSERT_TRUE(angle);
   EXPECT_EQ(angle->message.rfind("shape.heading must be in [-360, 360] deg (got 4", 0), 0u)
       << angle->message;

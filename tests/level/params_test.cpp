@@ -39,13 +39,13 @@ TEST(LevelParams, SetParamByDottedKey) {
   EXPECT_EQ(p.physics.substeps, 8);
   EXPECT_FALSE(SetParam(p, "proxies.placement", "ground"));
   EXPECT_EQ(p.proxies.placement, Placement::kGround);
-  const Status bad = SetParam(p, "physic.substeps", "8");
+  const MaybeError bad = SetParam(p, "physic.substeps", "8");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->message, "unknown section 'physic' (did you mean 'physics'?)");
-  const Status noDot = SetParam(p, "substeps", "8");
+  const MaybeError noDot = SetParam(p, "substeps", "8");
   ASSERT_TRUE(noDot);
   EXPECT_NE(noDot->message.find("section.key"), std::string::npos);
-  const Status range = SetParam(p, "physics.layers", "17");
+  const MaybeError range = SetParam(p, "physics.layers", "17");
   ASSERT_TRUE(range);
   EXPECT_EQ(range->message, "physics.layers: value 17 is out of range [1, 16]");
 }
@@ -56,11 +56,11 @@ TEST(LevelParams, CheckParamsAcceptsTheDefaultsAndNamesTheFirstBadValue) {
   p.tracking.maxDistance = -1.0;
   p.physics.substeps = 0;
   // sections in their documented order: physics comes before tracking
-  const Status bad = CheckParams(p);
+  const MaybeError bad = CheckParams(p);
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->message, "physics.substeps must be in [1, 64] (got 0)");
   p.physics.substeps = 4;
-  const Status tracking = CheckParams(p);
+  const MaybeError tracking = CheckParams(p);
   ASSERT_TRUE(tracking);
   EXPECT_EQ(tracking->message, "tracking.max_distance must be in [0, 100] cm (got -1)");
 }

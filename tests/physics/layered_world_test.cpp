@@ -28,7 +28,7 @@ TEST(Build, BadObjectGivesErrorAtItsPlaceAndLeavesWorldEmpty) {
   bad.shape = ObjectShape::kCylinder;
   bad.radius = 0;
   bad.loc = SourceLoc{"levels/cups.toml", 12, 5};
-  const Status s = w.Build(p, TableParams{}, std::vector<ObjectSpec>{Box("ok", 10, 10), bad});
+  const MaybeError s = w.Build(p, TableParams{}, std::vector<ObjectSpec>{Box("ok", 10, 10), bad});
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->Format(), "levels/cups.toml:12:5: object 'cup': radius must be > 0 (got 0)");
   EXPECT_EQ(w.ObjectCount(), 0);
@@ -42,7 +42,7 @@ TEST(Build, OffTableObjectAndBadParamsAreErrors) {
   LayeredWorld w;
   ObjectSpec far = Box("lost", 70, 10);
   far.loc = SourceLoc{"levels/a.toml", 4, 1};
-  Status s = w.Build(p, TableParams{}, std::vector<ObjectSpec>{far});
+  MaybeError s = w.Build(p, TableParams{}, std::vector<ObjectSpec>{far});
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->Format(),
             "levels/a.toml:4:1: object 'lost': pose puts its centre at (70, 10) cm, outside the "
@@ -336,7 +336,7 @@ TEST(SetParams, RebuildKeysAndBadValuesAreErrorsThatChangeNothing) {
   p.particleRadius = 0.3;
   EXPECT_EQ(b.world.FixedKeysChanged(p), (std::vector<std::string>{"layers", "particle_radius"}));
   p.substeps = 7;
-  Status s = b.world.SetParams(p);
+  MaybeError s = b.world.SetParams(p);
   ASSERT_NE(s, std::nullopt);
   EXPECT_THAT(s->Format(), ::testing::HasSubstr("layers"));
   EXPECT_EQ(b.world.params().substeps, before.substeps);

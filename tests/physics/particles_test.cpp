@@ -62,7 +62,7 @@ bool Tunnels(int substeps, double speed, double radius) {
   ObjectSpec wall = Box("thin", 30, 23, 1.0, 10.0, 2.0);
   wall.mass = 1e5;  // does not give way
   LayeredWorld w;
-  const Status st = w.Build(p, TableParams{}, std::vector<ObjectSpec>{wall});
+  const MaybeError st = w.Build(p, TableParams{}, std::vector<ObjectSpec>{wall});
   EXPECT_FALSE(st.has_value());
   w.ApplyPlan(Plan({Create(1, Vec2(20, 23), Vec2(20, 23))}));
   bool passed = false;

@@ -37,7 +37,7 @@ inline ObjectSpec Cylinder(const std::string& name, double x, double y, double r
 /// Builds a world and fails the test on error.
 inline void MustBuild(LayeredWorld& world, const PhysicsParams& p,
                       const std::vector<ObjectSpec>& objects, const TableParams& table = {}) {
-  const Status s = world.Build(p, table, objects);
+  const MaybeError s = world.Build(p, table, objects);
   ASSERT_FALSE(s.has_value()) << s->Format();
 }
 

@@ -220,7 +220,7 @@ TEST(Validate, ErrorsNameObjectFieldAndPlace) {
   ObjectSpec box = Shape(ObjectShape::kBox);
   box.name = "crate";
   box.sizeX = -1;
-  Status s = ValidateObject(box, p);
+  MaybeError s = ValidateObject(box, p);
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->Format(), "levels/t.toml:7:3: object 'crate': size_x must be > 0 (got -1)");
 

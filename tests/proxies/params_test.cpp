@@ -41,7 +41,7 @@ TEST(ProxyParams, WindowRangeMatchesTheMatchingLimit) {
   // the matching sums stay exact in int64 only up to kMaxMatchWindow; the level range says so too
   ProxyParams p;
   const ParamSection s = Section(p);
-  const Status tooWide = SetFieldFromText(s, "window", std::to_string(kMaxMatchWindow + 1));
+  const MaybeError tooWide = SetFieldFromText(s, "window", std::to_string(kMaxMatchWindow + 1));
   ASSERT_TRUE(tooWide);
   EXPECT_NE(tooWide->message.find("out of range"), std::string::npos) << tooWide->message;
   EXPECT_FALSE(SetFieldFromText(s, "window", std::to_string(kMaxMatchWindow)));

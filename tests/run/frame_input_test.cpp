@@ -130,7 +130,7 @@ TEST(FrameInput, AMissingCameraIsAnErrorOrKeptToBeRetried) {
   ASSERT_TRUE(stepped.ok());
   EXPECT_EQ(stepped.value(), FrameStatus::kLost);
   EXPECT_EQ(sim.Frame(), 0);
-  const Status again = input.Reconnect();
+  const MaybeError again = input.Reconnect();
   ASSERT_TRUE(again);
   EXPECT_THAT(again->Format(), HasSubstr("97"));
 }

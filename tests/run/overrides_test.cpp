@@ -22,7 +22,7 @@ TEST(Overrides, SetOverridesTheLevelAndEveryVariant) {
   EXPECT_EQ(level.variants[0].params.physics.stackSize, 5) << "the command line wins";
   EXPECT_FALSE(SetLevelParam(level, "physics.substeps", "2"));
   EXPECT_EQ(level.variants[0].params.physics.substeps, 2);
-  const Status bad = SetLevelParam(level, "physics.stack_size", "99");
+  const MaybeError bad = SetLevelParam(level, "physics.stack_size", "99");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->message, "physics.stack_size: value 99 is out of range [1, 16]");
   EXPECT_EQ(level.params.physics.stackSize, 5);
@@ -45,7 +45,7 @@ TEST(Overrides, ApplyAllOrNothingAndNameTheBadArgument) {
   Level& level = r.value();
   const int substeps = level.params.physics.substeps;
   // the second argument is bad: the first is not applied either
-  const Status bad = ApplyOverrides(level, {"physics.substeps=7", "physics.stack_size=99"});
+  const MaybeError bad = ApplyOverrides(level, {"physics.substeps=7", "physics.stack_size=99"});
   ASSERT_TRUE(bad);
   EXPECT_THAT(bad->Format(), HasSubstr("--set physics.stack_size=99: "));
   EXPECT_THAT(bad->Format(), HasSubstr("out of range [1, 16]"));
@@ -55,7 +55,7 @@ TEST(Overrides, ApplyAllOrNothingAndNameTheBadArgument) {
   EXPECT_EQ(level.variants[0].params.physics.substeps, 7) << "variants follow the command line";
 
   LevelParams params;
-  const Status unknown = ApplyOverrides(params, {"physics.substep=2"});
+  const MaybeError unknown = ApplyOverrides(params, {"physics.substep=2"});
   ASSERT_TRUE(unknown);
   EXPECT_THAT(unknown->Format(), HasSubstr("--set physics.substep=2: "));
   EXPECT_FALSE(ApplyOverrides(params, {"sensing.threshold=50"}));

@@ -79,7 +79,7 @@ TEST(Simulation, BadFrameIsAnErrorNamingTheFrame) {
   const Level level = BoxLevel();
   Simulation sim;
   ASSERT_FALSE(sim.Start(level, level.params));
-  const Status bad = sim.StepImage(cv::Mat(10, 10, CV_8UC1, cv::Scalar(0)));
+  const MaybeError bad = sim.StepImage(cv::Mat(10, 10, CV_8UC1, cv::Scalar(0)));
   ASSERT_TRUE(bad);
   EXPECT_THAT(bad->Format(), HasSubstr("frame 0"));
   EXPECT_EQ(sim.Frame(), 0) << "a rejected frame does not advance the simulation";
@@ -89,7 +89,7 @@ TEST(Simulation, FailedStartKeepsNothing) {
   Level level = BoxLevel();
   level.params.sensing.calibration = "/nonexistent/calibration.yaml";
   Simulation sim;
-  const Status bad = sim.Start(level, level.params);
+  const MaybeError bad = sim.Start(level, level.params);
   ASSERT_TRUE(bad);
   EXPECT_THAT(bad->Format(), HasSubstr("/nonexistent/calibration.yaml"));
 }

@@ -91,20 +91,21 @@ TEST(Trace, RecordsTheCameraFramesBesideTheRows) {
 
 TEST(Trace, UnwritablePlacesAreErrorsNamingThem) {
   TraceWriter trace;
-  const Status folder = trace.Open("/proc/pg_no_trace_here");
+  const MaybeError folder = trace.Open("/proc/pg_no_trace_here");
   ASSERT_TRUE(folder);
   EXPECT_THAT(folder->Format(), HasSubstr("/proc/pg_no_trace_here"));
   EXPECT_FALSE(trace.IsOpen());
 
   const std::string dir = (fs::temp_directory_path() / "pg_trace_badvideo").string();
   fs::remove_all(dir);
-  const Status video = trace.Open(dir, "/proc/pg_no_video_here/input.mkv", cv::Size(640, 480), 60);
+  const MaybeError video =
+      trace.Open(dir, "/proc/pg_no_video_here/input.mkv", cv::Size(640, 480), 60);
   ASSERT_TRUE(video);
   EXPECT_THAT(video->Format(), HasSubstr("/proc/pg_no_video_here/input.mkv"));
   EXPECT_FALSE(trace.IsOpen()) << "nothing stays open after a failed Open";
 
   Simulation sim;
-  const Status closed = trace.Write(sim);
+  const MaybeError closed = trace.Write(sim);
   ASSERT_TRUE(closed);
   EXPECT_THAT(closed->Format(), HasSubstr("not open"));
   fs::remove_all(dir);

@@ -148,7 +148,7 @@ TEST(SyntheticSource, DemoScenesRenderThroughTheCamera) {
   EXPECT_EQ(frame.size(), cv::Size(640, 480));
   EXPECT_EQ(frame.type(), CV_8UC1);
   // the reopen of a non-camera source is refused with a message, not a crash
-  Status s = src.value()->Reopen();
+  MaybeError s = src.value()->Reopen();
   ASSERT_TRUE(s);
   EXPECT_THAT(s->Format(), HasSubstr("cannot be reopened"));
 }

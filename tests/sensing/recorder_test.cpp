@@ -64,17 +64,17 @@ TEST(Recorder, CountingFramesOfWhatIsNoVideoIsAnErrorNamingIt) {
 
 TEST(Recorder, RejectsWrongFramesAndPaths) {
   FrameRecorder recorder;
-  const Status notOpen = recorder.Write(cv::Mat(48, 64, CV_8UC1, cv::Scalar(0)));
+  const MaybeError notOpen = recorder.Write(cv::Mat(48, 64, CV_8UC1, cv::Scalar(0)));
   ASSERT_TRUE(notOpen);
   EXPECT_THAT(notOpen->message, HasSubstr("not open"));
 
-  const Status badPath = recorder.Open("/nonexistent-dir/x.mkv", cv::Size(64, 48), 60.0);
+  const MaybeError badPath = recorder.Open("/nonexistent-dir/x.mkv", cv::Size(64, 48), 60.0);
   ASSERT_TRUE(badPath);
   EXPECT_THAT(badPath->Format(), HasSubstr("/nonexistent-dir/x.mkv"));
 
   const std::string path = TempPath("pg_recorder_bad.mkv");
   ASSERT_FALSE(recorder.Open(path, cv::Size(64, 48), 60.0));
-  const Status wrong = recorder.Write(cv::Mat(10, 10, CV_8UC3));
+  const MaybeError wrong = recorder.Write(cv::Mat(10, 10, CV_8UC3));
   ASSERT_TRUE(wrong);
   EXPECT_THAT(wrong->message, HasSubstr("frame 0 is 10x10"));
   recorder.Close();

@@ -265,7 +265,7 @@ TEST(Sensor, SetParamsChangesAConfiguredSensorAndKeepsItsBackground) {
 
 TEST(Sensor, SetParamsRejectsWhatOnlyConfigureCanChange) {
   Sensor unconfigured;
-  const Status none = unconfigured.SetParams(SensingParams{});
+  const MaybeError none = unconfigured.SetParams(SensingParams{});
   ASSERT_TRUE(none);
   EXPECT_THAT(none->Format(), HasSubstr("not configured"));
 
@@ -276,14 +276,14 @@ TEST(Sensor, SetParamsRejectsWhatOnlyConfigureCanChange) {
   sp.backgroundFrames = 3;
   EXPECT_EQ(rig.sensor.FixedKeysChanged(sp),
             (std::vector<std::string>{"calibration", "background_frames"}));
-  const Status fixed = rig.sensor.SetParams(sp);
+  const MaybeError fixed = rig.sensor.SetParams(sp);
   ASSERT_TRUE(fixed);
   EXPECT_EQ(fixed->Format(),
             "sensing.calibration: cannot change on a configured sensor (Configure it again)");
   sp = rig.sensor.params();
   sp.threshold = 90.0;
   sp.spacing = 0.0;
-  const Status bad = rig.sensor.SetParams(sp);
+  const MaybeError bad = rig.sensor.SetParams(sp);
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->Format(), "sensing.spacing must be in [0.05, 5] cm (got 0)");
   // nothing changed
@@ -413,7 +413,7 @@ TEST(Sensor, ConfigureErrorsNameTheFileAndField) {
   Sensor sensor;
   SensingParams sp;
   sp.calibration = "/nonexistent/calib.yaml";
-  Status s = sensor.Configure(sp, TableParams{}, cv::Size(640, 480));
+  MaybeError s = sensor.Configure(sp, TableParams{}, cv::Size(640, 480));
   ASSERT_TRUE(s);
   EXPECT_EQ(s->Format(), "/nonexistent/calib.yaml: calibration file not found");
 
@@ -431,7 +431,7 @@ TEST(Sensor, ConfigureErrorsNameTheFileAndField) {
   ASSERT_TRUE(s);
   EXPECT_THAT(s->Format(), HasSubstr("sensing.spacing"));
 
-  Status bg = sensor.SetBackground(cv::Mat(10, 10, CV_8UC1));
+  MaybeError bg = sensor.SetBackground(cv::Mat(10, 10, CV_8UC1));
   ASSERT_TRUE(bg);
   EXPECT_THAT(bg->Format(), HasSubstr("background"));
 }

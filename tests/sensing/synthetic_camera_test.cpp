@@ -191,7 +191,7 @@ TEST(SyntheticCamera, SetParamsRejectsWhatFixesTheImageAndChangesNothing) {
   next.width = 320;
   next.seed = 9;
   EXPECT_EQ(camera.FixedKeysChanged(next), (std::vector<std::string>{"width", "seed"}));
-  const Status s = camera.SetParams(next);
+  const MaybeError s = camera.SetParams(next);
   ASSERT_TRUE(s);
   EXPECT_EQ(s->Format(),
             "camera.width: cannot change on a built camera (it fixes the image and the noise "

@@ -53,7 +53,7 @@ TEST(Tracker, KeepsItsParametersAndRejectsOutOfRangeOnes) {
   EXPECT_EQ(t.params().maxDistance, 2.5);
   TrackingParams bad = p;
   bad.maxDistance = -1;
-  const Status s = t.SetParams(bad);
+  const MaybeError s = t.SetParams(bad);
   ASSERT_TRUE(s);
   EXPECT_NE(s->Format().find("tracking.max_distance"), std::string::npos) << s->Format();
   EXPECT_EQ(t.params().maxDistance, 2.5) << "a rejected change keeps the parameters";

@@ -51,7 +51,7 @@ class App {
 
   /// Opens the window with a software renderer and starts the level. Errors say why: no display
   /// (SDL's message), a bad level file (file:line:col: message), a bad --set, a bad input spec.
-  Status Open(const AppOptions& options);
+  MaybeError Open(const AppOptions& options);
 
   /// One frame: events, queued requests, the level file check, one pipeline step (unless
   /// paused), drawing, the UI and presenting. False once the window is closed or Escape pressed.

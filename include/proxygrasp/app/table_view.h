@@ -58,7 +58,7 @@ struct ViewOptions {
 
 /// Turns on the overlays named in a comma-separated list: "forces", "successors", "camera",
 /// "help", "nohud", "layer=N". Errors name the unknown word.
-Status ParseViewOptions(const std::string& list, ViewOptions& options);
+MaybeError ParseViewOptions(const std::string& list, ViewOptions& options);
 
 /// Text the caller adds to the picture: frame rate, state and errors.
 struct Overlay {

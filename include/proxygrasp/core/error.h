@@ -59,7 +59,8 @@ class Result {
   std::variant<T, Error> m_data;
 };
 
-/// Success or an Error.
-using Status = std::optional<Error>;
+/// Nothing when all went well, or the Error. Unlike Result, a MaybeError that converts to true
+/// holds a failure: `if (MaybeError e = Start()) return e;`.
+using MaybeError = std::optional<Error>;
 
 }  // namespace pg

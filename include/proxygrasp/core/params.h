@@ -96,13 +96,13 @@ std::vector<FieldInfo> ListFields(const ParamSection& section);
 /// Sets a field from text ("0.3", "true", "raycast", "\"path\"" or path, "[1, 2]", "[[0, 0], [1,
 /// 0]]"). Unknown keys get a "did you mean" hint; values out of range name the allowed range.
 /// Nothing changes on error.
-Status SetFieldFromText(const ParamSection& section, const std::string& key,
-                        const std::string& text);
+MaybeError SetFieldFromText(const ParamSection& section, const std::string& key,
+                            const std::string& text);
 
 /// Checks every field of a section against its description: numbers (NaN included) and points
 /// within their range, choices among their names. The first problem is an Error
 /// "section.key must be in [min, max] unit (got value)"; nullopt when every field is valid.
-Status CheckFields(const ParamSection& section);
+MaybeError CheckFields(const ParamSection& section);
 
 /// The keys of the fields whose values differ between two descriptions of the same struct (exact
 /// values, as ListFields writes them), in description order.
@@ -119,7 +119,7 @@ std::string ChangedFieldsAsToml(const ParamSection& current, const ParamSection&
 /// CheckFields for a value of a struct P that has a `Describe(P&, ParamVisitor&)`: the first value
 /// out of its described range, as "section.key must be in ...".
 template <typename P>
-Status CheckDescribed(const std::string& section, const P& params) {
+MaybeError CheckDescribed(const std::string& section, const P& params) {
   P copy = params;
   return CheckFields({section, [&copy](ParamVisitor& v) { Describe(copy, v); }});
 }

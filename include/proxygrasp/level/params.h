@@ -27,13 +27,13 @@ std::vector<ParamSection> Sections(LevelParams& p);
 
 /// Checks every parameter against its described range, section by section (CheckFields). The
 /// first problem is an Error "physics.substeps must be in [1, 64] (got 0)".
-Status CheckParams(const LevelParams& p);
+MaybeError CheckParams(const LevelParams& p);
 
 /// Every "section.key" whose description says a change needs a new run (Apply::kRestart), in
 /// section and description order.
 std::vector<std::string> RestartKeys();
 
 /// Sets "section.key" to a value given as text, as `--set section.key=value` does.
-Status SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text);
+MaybeError SetParam(LevelParams& p, const std::string& dottedKey, const std::string& text);
 
 }  // namespace pg

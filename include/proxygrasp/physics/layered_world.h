@@ -30,8 +30,8 @@ class LayeredWorld : public SceneQuery {
   /// Validates the parameters and objects and builds the K layer worlds, walls and slices,
   /// replacing anything built before. Bad specs give an Error at spec.loc naming object and field;
   /// on error the world is left empty.
-  Status Build(const PhysicsParams& physics, const TableParams& table,
-               std::span<const ObjectSpec> objects);
+  MaybeError Build(const PhysicsParams& physics, const TableParams& table,
+                   std::span<const ObjectSpec> objects);
 
   /// Changes the parameters of a built world between frames, keeping every object and particle
   /// where it is: frame_rate, substeps, iterations, threads, gravity, particle_mass (applied to
@@ -39,7 +39,7 @@ class LayeredWorld : public SceneQuery {
   /// top_kinetic_factor and the held thresholds take effect from the next StepFrame. A change of
   /// what only Build can apply (FixedKeysChanged) or an invalid value is an Error naming the key,
   /// and nothing changes.
-  Status SetParams(const PhysicsParams& physics);
+  MaybeError SetParams(const PhysicsParams& physics);
   /// The keys of the parameters that differ between `physics` and those in use and that
   /// SetParams cannot change: "layer_height", "layers" (the layer worlds and slices),
   /// "particle_radius", "stack_size" and "capsule" (the particle bodies).

@@ -33,8 +33,8 @@ struct CrossSection {
 /// Checks an object spec against the physics parameters. Errors sit at spec.loc and name the
 /// object and the field: "object 'cup': radius must be > 0 (got -1)"; field, when given,
 /// receives the field's key ("radius"), so that a level file can point at it.
-Status ValidateObject(const ObjectSpec& spec, const PhysicsParams& params,
-                      std::string* field = nullptr);
+MaybeError ValidateObject(const ObjectSpec& spec, const PhysicsParams& params,
+                          std::string* field = nullptr);
 
 /// The axis-aligned bounds (low, high corners) of the object's footprint on the table at its
 /// starting pose, cm.

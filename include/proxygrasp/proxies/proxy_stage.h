@@ -37,7 +37,7 @@ class ProxyStage {
 
   /// Changes the parameters between frames (every proxies parameter applies live, the mode
   /// included). A value out of its described range is an Error naming it, and nothing changes.
-  Status SetParams(const ProxyParams& params);
+  MaybeError SetParams(const ProxyParams& params);
   const ProxyParams& params() const { return m_params; }
 
   /// One frame: the plan for every particle. feedback holds where the physics put the particles

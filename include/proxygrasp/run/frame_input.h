@@ -64,7 +64,7 @@ class FrameInput {
   cv::Size PeekedSize() const { return m_frame.size(); }
 
   /// Opens a lost, ended or missing source again: the source's own Reopen, else its spec anew.
-  Status Reconnect();
+  MaybeError Reconnect();
 
   Kind kind() const { return m_kind; }
   /// True for kSource with an open source.

@@ -22,13 +22,13 @@ Result<Override> ParseOverride(const std::string& argument);
 
 /// Sets "section.key" from text in the level's parameters and in every variant's. Nothing changes
 /// on error.
-Status SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text);
+MaybeError SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text);
 
 /// Applies every `--set` argument in order to the level (and its variants). The first bad one is
 /// an Error "--set ARG: message"; the level is left as it was.
-Status ApplyOverrides(Level& level, const std::vector<std::string>& arguments);
+MaybeError ApplyOverrides(Level& level, const std::vector<std::string>& arguments);
 
 /// The same for a level's parameters alone (`sense` on a camera has no level).
-Status ApplyOverrides(LevelParams& params, const std::vector<std::string>& arguments);
+MaybeError ApplyOverrides(LevelParams& params, const std::vector<std::string>& arguments);
 
 }  // namespace pg

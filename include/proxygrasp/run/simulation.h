@@ -65,8 +65,8 @@ class Simulation {
  public:
   /// Builds the camera, sensor, tracker, proxies and world from the level's objects and the run's
   /// parameters. On error nothing is kept and the Error names the level file where it can.
-  Status Start(const Level& level, const LevelParams& params,
-               const SimulationOptions& options = {});
+  MaybeError Start(const Level& level, const LevelParams& params,
+                   const SimulationOptions& options = {});
 
   /// Adopts new parameters between frames and keeps the run's state: objects, particles, contacts,
   /// the stages' memory and the frame count stay as they are. Each parameter's description says
@@ -79,13 +79,13 @@ class Simulation {
   Result<RetuneReport> Retune(const LevelParams& params);
 
   /// One frame whose contacts are the level's script at the current time.
-  Status StepScript();
+  MaybeError StepScript();
   /// One frame whose contacts are these shapes, drawn by the synthetic camera.
-  Status StepShapes(std::span<const ContactShape> shapes);
+  MaybeError StepShapes(std::span<const ContactShape> shapes);
   /// One frame from a camera image (CV_8UC1 of the sensed size); errors name the frame.
-  Status StepImage(const cv::Mat& frame);
+  MaybeError StepImage(const cv::Mat& frame);
   /// One frame whose contours (table cm) were sensed elsewhere: tracking onwards.
-  Status StepContours(const ContourFrame& contours);
+  MaybeError StepContours(const ContourFrame& contours);
 
   /// The size of the camera images the sensor takes, pixels ([camera] width and height).
   cv::Size CameraSize() const { return {m_params.camera.width, m_params.camera.height}; }
@@ -119,7 +119,7 @@ class Simulation {
   int ScriptContactOf(ContactId id) const;
 
  private:
-  Status Process(const cv::Mat& frame);
+  MaybeError Process(const cv::Mat& frame);
   // tracking onwards, once m_contours holds the frame's contours
   void ProcessContours(FrameStats& stats, double senseMs);
   void AttributeContacts();

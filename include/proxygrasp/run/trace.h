@@ -48,16 +48,16 @@ class TraceWriter {
   /// there too (FFV1); its folder must exist, and it is opened first, so that a video that cannot
   /// be written leaves no trace folder behind. Errors name the folder or file; on error nothing
   /// stays open.
-  Status Open(const std::string& dir, const std::string& videoPath = "", cv::Size size = cv::Size(),
-              double frameRate = 0.0);
+  MaybeError Open(const std::string& dir, const std::string& videoPath = "",
+                  cv::Size size = cv::Size(), double frameRate = 0.0);
 
   /// Appends the rows of the frame the simulation has just stepped, and its camera image when
   /// recording. A failed write is an Error naming the file.
-  Status Write(const Simulation& sim);
+  MaybeError Write(const Simulation& sim);
 
   /// Flushes and closes every file. Safe to call twice. An Error when the files could not be
   /// completed.
-  Status Close();
+  MaybeError Close();
 
   bool IsOpen() const { return m_objects.is_open(); }
   /// The folder of the CSV files.

@@ -50,7 +50,7 @@ struct Calibration {
 Result<Calibration> LoadCalibration(const std::string& path);
 
 /// Writes a calibration YAML file that LoadCalibration reads back.
-Status SaveCalibration(const std::string& path, const Calibration& calibration);
+MaybeError SaveCalibration(const std::string& path, const Calibration& calibration);
 
 /// The calibration used when there is no file: no distortion, the whole image maps linearly onto
 /// the whole table (image top = table far edge, y up), and the table onto a 1024x768 display.

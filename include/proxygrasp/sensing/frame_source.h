@@ -41,7 +41,7 @@ class FrameSource {
   /// Why the last Read did not deliver, or "" after a good frame.
   virtual std::string LastError() const { return m_lastError; }
   /// Tries to open the source again after kLost. The default cannot reopen.
-  virtual Status Reopen() { return MakeError({Describe()}, "this source cannot be reopened"); }
+  virtual MaybeError Reopen() { return MakeError({Describe()}, "this source cannot be reopened"); }
   /// Frames per second the source runs at, or 0 when unknown.
   virtual double FrameRate() const { return 0.0; }
 

@@ -22,9 +22,9 @@ class FrameRecorder {
  public:
   /// Opens path (".mkv" recommended) for frames of `size` at `fps` frames per second. Errors name
   /// the file.
-  Status Open(const std::string& path, cv::Size size, double fps);
+  MaybeError Open(const std::string& path, cv::Size size, double fps);
   /// Appends one CV_8UC1 frame of the opened size; a wrong frame is an Error naming its index.
-  Status Write(const cv::Mat& frame);
+  MaybeError Write(const cv::Mat& frame);
   /// Finishes the file. Safe to call twice.
   void Close();
   bool IsOpen() const { return m_writer.isOpened(); }

@@ -21,16 +21,16 @@ class Sensor {
  public:
   /// Reads params.calibration (or uses LinearCalibration when it is ""), checks that it matches
   /// imageSize, and resets the background. Errors name the calibration file and field.
-  Status Configure(const SensingParams& params, const TableParams& table, cv::Size imageSize);
+  MaybeError Configure(const SensingParams& params, const TableParams& table, cv::Size imageSize);
   /// Same, with a calibration already in memory; `source` names it in errors.
-  Status Configure(const SensingParams& params, const TableParams& table,
-                   const Calibration& calibration, const std::string& source = "calibration");
+  MaybeError Configure(const SensingParams& params, const TableParams& table,
+                       const Calibration& calibration, const std::string& source = "calibration");
 
   /// Changes the parameters of a configured sensor between frames, keeping its calibration and
   /// background: the threshold mode and levels, morphology, min_area, spacing, subpixel and
   /// table_cm_per_pixel take effect from the next frame. A change of what only Configure can
   /// apply (FixedKeysChanged) or an invalid value is an Error, and nothing changes.
-  Status SetParams(const SensingParams& params);
+  MaybeError SetParams(const SensingParams& params);
   /// The keys of the parameters that differ between `params` and those in use and that SetParams
   /// cannot change: "calibration" (read by Configure) and "background_frames" (used once, when
   /// the background is captured).
@@ -43,7 +43,7 @@ class Sensor {
                             bool wantTableImage = false);
 
   /// Uses this clear-table frame (CV_8UC1, configured size) as the background from now on.
-  Status SetBackground(const cv::Mat& background);
+  MaybeError SetBackground(const cv::Mat& background);
   /// True once a background is known (set, loaded, captured or estimated).
   bool HasBackground() const { return !m_background.empty(); }
   /// The background in use (empty before the first frame when none was set), CV_8UC1.

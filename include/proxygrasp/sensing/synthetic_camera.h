@@ -63,7 +63,7 @@ class SyntheticCamera {
   /// halo_width, vignetting, gradient and noise take effect from the next Render (and Background).
   /// A change of what fixes the image or the noise stream (FixedKeysChanged) is an Error and
   /// nothing changes.
-  Status SetParams(const SyntheticCameraParams& params);
+  MaybeError SetParams(const SyntheticCameraParams& params);
   /// The keys of the parameters that differ between `params` and those in use and that SetParams
   /// cannot change: "width", "height", "distortion", "perspective" (the camera model) and "seed".
   std::vector<std::string> FixedKeysChanged(const SyntheticCameraParams& params) const;

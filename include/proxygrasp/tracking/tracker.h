@@ -20,7 +20,7 @@ class Tracker {
 
   /// Changes the parameters between frames (every tracking parameter applies live). A value out
   /// of its described range is an Error naming it, and nothing changes.
-  Status SetParams(const TrackingParams& params);
+  MaybeError SetParams(const TrackingParams& params);
   const TrackingParams& params() const { return m_params; }
 
   /// One frame. Matches frame's blobs to the last frame's contacts: every pair of (last contact,
