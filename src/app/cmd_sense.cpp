@@ -8,6 +8,7 @@
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -125,7 +126,9 @@ int RunSense(const SenseOptions& o) {
     return sim.Start(in.level, params, setup);
   };
 
-  const int64_t limit = o.frames > 0 ? o.frames : in.frameCount;
+  // --frames stops early; a level's script also ends with its duration
+  int64_t limit = o.frames > 0 ? o.frames : in.frameCount;
+  if (o.frames > 0 && in.frameCount > 0) limit = std::min(o.frames, in.frameCount);
   int64_t index = 0;
   int badFrames = 0;
   int failuresInARow = 0;

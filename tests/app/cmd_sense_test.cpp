@@ -182,6 +182,12 @@ TEST(SenseCommand, LevelScriptIsInput) {
                                   "\"centroid\": [20.0"));
   EXPECT_THAT(r.output, HasSubstr("{\"frame\": 149, "));
   EXPECT_THAT(r.output, ::testing::Not(HasSubstr("{\"frame\": 150, ")));
+  // --frames stops earlier, never later than the script's end
+  const auto longer = RunProxygrasp("sense " + std::string(PROXYGRASP_SOURCE_DIR) +
+                                    "/levels/side_push.toml --frames 400");
+  ASSERT_EQ(longer.exitCode, 0) << longer.output;
+  EXPECT_THAT(longer.output, HasSubstr("{\"frame\": 149, "));
+  EXPECT_THAT(longer.output, ::testing::Not(HasSubstr("{\"frame\": 150, ")));
 }
 
 TEST(SenseCommand, BadLevelFileExitsTwoWithLocation) {
