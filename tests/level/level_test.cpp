@@ -14,11 +14,9 @@
 namespace pg {
 namespace {
 
-using test::ErrorOf;
 using test::kBox;
 using test::kData;
 using test::Values;
-using ::testing::HasSubstr;
 
 TEST(Level, LoadsEveryPartOfACompleteLevel) {
   const Result<Level> r = LoadLevel(kData + "/complete.toml");

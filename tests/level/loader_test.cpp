@@ -16,7 +16,6 @@ namespace {
 using test::ErrorOf;
 using test::kBox;
 using test::kData;
-using test::Values;
 using ::testing::HasSubstr;
 
 TEST(LevelErrors, SyntaxErrorHasTheParsersLocation) {

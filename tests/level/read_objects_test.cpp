@@ -15,9 +15,6 @@ namespace {
 
 using test::ErrorOf;
 using test::kBox;
-using test::kData;
-using test::Values;
-using ::testing::HasSubstr;
 
 TEST(LevelErrors, UnknownObjectKey) {
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\nfriction = 0.2\n"),

@@ -14,10 +14,6 @@ namespace pg {
 namespace {
 
 using test::ErrorOf;
-using test::kBox;
-using test::kData;
-using test::Values;
-using ::testing::HasSubstr;
 
 TEST(LevelErrors, UnknownScriptContactAndKeyframeKeys) {
   EXPECT_EQ(ErrorOf("[script]\nduraton = 3\n"),

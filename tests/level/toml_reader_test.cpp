@@ -15,9 +15,6 @@ namespace {
 
 using test::ErrorOf;
 using test::kBox;
-using test::kData;
-using test::Values;
-using ::testing::HasSubstr;
 
 TEST(LevelErrors, UnknownTopLevelKey) {
   EXPECT_EQ(ErrorOf("name = \"x\"\n[physic]\nlayers = 2\n"),
