@@ -1,10 +1,14 @@
-// The keys of [[objects]] and [[script.contacts]] entries, described through the same reflection as
-// the parameter tables, so the loader's checks and docs/levels.md come from one place.
-#include "proxygrasp/level/level.h"
+// The keys of every level table but the parameter tables ([[objects]], [script], its contacts and
+// keyframes, regions, [[expect]], [[goals]]), described through the same reflection as the
+// parameter tables, so the loader's checks and docs/levels.md come from one place.
+#include "describe.h"
+
+#include "proxygrasp/core/units.h"
 
 #include <algorithm>
 #include <initializer_list>
 #include <iterator>
+#include <memory>
 #include <string>
 
 namespace pg {
@@ -93,6 +97,118 @@ bool ContactKeyApplies(ShapeKind shape, std::string_view key) {
   if (key == "scale") return OneOf(shape, {S::kHandFive, S::kHandFlat, S::kHandCupped});
   if (key == "points") return OneOf(shape, {S::kConvexPolygon, S::kConcavePolygon});
   return true;
+}
+
+namespace levelfile {
+
+void DescribeScript(Script& s, ParamVisitor& v) {
+  v.Real("duration", s.duration, 0.01, 3600, "s",
+         "length of the level; default: the last keyframe plus 1 s");
+  VisitEnum(v, "interpolation", s.interpolation, kInterpolationNames,
+            "how contacts move between keyframes");
+  v.Text("recording", s.recording,
+         "a recorded video that replaces the contacts, relative to this file");
+}
+
+void DescribeScriptContact(ScriptContact& c, ParamVisitor& v) {
+  v.Text("name", c.name, "unique name, used by resting expectations (required)");
+  VisitEnum(v, "interpolation", c.interpolation, kInterpolationNames,
+            "how contacts move between keyframes");
+  DescribeContactShape(c.shape, v);
+}
+
+void DescribeKeyframe(Keyframe& k, ParamVisitor& v) {
+  v.Real("t", k.t, 0, 3600, "s", "time of the keyframe from the start of the level (required)");
+  v.Vector("pos", k.pose.pos, -1000, 1000, "cm",
+           "position of the contact's centre on the table (required)");
+  v.Angle("angle", k.pose.angle, -36000, 36000, "deg",
+          "the contact's angle, counter-clockwise; not wrapped");
+}
+
+void DescribeRegion(Region& r, ParamVisitor& v) {
+  v.Vector("min", r.min, -1000, 1000, "cm",
+           "region: the rectangle corner with the smallest x and y");
+  v.Vector("max", r.max, -1000, 1000, "cm",
+           "region: the rectangle corner with the largest x and y");
+  v.Vector("center", r.center, -1000, 1000, "cm", "region: the circle's centre");
+  v.Real("radius", r.radius, 0.001, 1000, "cm", "region: the circle's radius");
+}
+
+void DescribeExpectation(Expectation& e, ExpectationKeys& k, ParamVisitor& v) {
+  VisitEnum(v, "kind", e.kind, kExpectKindNames, "what the expectation checks (required)");
+  v.Real("at", k.at, 0, 3600, "s",
+         "time of the check from the start of the level; default: the end of the run "
+         "(resting: the contact's last keyframe)");
+  VisitEnum(v, "mode", k.mode, kProxyModeNames, "check only in runs of this proxy mode");
+  v.Text("variant", e.variant, "check only in runs of this variant; default: the base level");
+  v.Text("label", e.label, "free text shown beside the result");
+  v.Text("object", e.object, "the object's name");
+  v.Text("contact", e.contact, "resting: the script contact's name");
+  v.Text("on", e.on, "resting: an object's name, or \"table\"");
+  if (e.kind == ExpectKind::kRotation) {
+    v.Real("above", k.aboveDeg, -36000, 36000, "deg",
+           "rotation: lower bound of the total signed rotation since the start");
+    v.Real("below", k.belowDeg, -36000, 36000, "deg",
+           "rotation: upper bound of the total signed rotation since the start");
+  } else {
+    v.Real("above", e.above, 0, 10000, "cm",
+           "displacement: lower bound of the distance moved from the start");
+    v.Real("below", e.below, 0, 10000, "cm",
+           "displacement: upper bound of the distance moved from the start");
+  }
+  v.Boolean("held", e.held, "held: whether the object must be held (true) or not (false)");
+  v.Real("fraction", e.fraction, 0.01, 1, "1",
+         "resting: the smallest fraction of the contact's particles that must rest there");
+}
+
+void DescribeGoal(Goal& g, GoalKeys& k, ParamVisitor& v) {
+  v.Text("object", g.object, "the object's name");
+  v.Text("label", g.label, "text drawn beside the goal");
+  v.Real("angle", k.angleDeg, -360, 360, "deg",
+         "the object's absolute angle to reach, compared modulo 360");
+  v.Real("tolerance", k.toleranceDeg, 0, 180, "deg", "allowed angle error; only with angle");
+}
+
+}  // namespace levelfile
+
+namespace {
+
+// a section that describes its own copy of value
+template <typename T, typename DescribeFn>
+ParamSection Owned(std::string name, T value, DescribeFn describe) {
+  auto owned = std::make_shared<T>(std::move(value));
+  return {std::move(name), [owned, describe](ParamVisitor& v) { describe(*owned, v); }};
+}
+
+}  // namespace
+
+std::vector<ParamSection> FileSections() {
+  struct ExpectationEntry {
+    Expectation e;
+    levelfile::ExpectationKeys k;
+  };
+  Expectation rotation;
+  rotation.kind = ExpectKind::kRotation;
+  struct GoalEntry {
+    Goal g;
+    levelfile::GoalKeys k{0.0, RadToDeg(Goal{}.tolerance)};
+  };
+  return {
+      Owned("script", Script{}, levelfile::DescribeScript),
+      Owned("script.contacts", ScriptContact{}, levelfile::DescribeScriptContact),
+      Owned("keys", Keyframe{}, levelfile::DescribeKeyframe),
+      Owned("region", Region{}, levelfile::DescribeRegion),
+      Owned("expect", ExpectationEntry{},
+            [](ExpectationEntry& x, ParamVisitor& v) {
+              levelfile::DescribeExpectation(x.e, x.k, v);
+            }),
+      Owned("expect.rotation", ExpectationEntry{rotation, {}},
+            [](ExpectationEntry& x, ParamVisitor& v) {
+              levelfile::DescribeExpectation(x.e, x.k, v);
+            }),
+      Owned("goals", GoalEntry{},
+            [](GoalEntry& x, ParamVisitor& v) { levelfile::DescribeGoal(x.g, x.k, v); }),
+  };
 }
 
 std::string ObjectSizeKeys(ObjectShape shape) {

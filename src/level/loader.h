@@ -2,8 +2,8 @@
 // their file:line:col), checks every key against the code's descriptions and builds the Level.
 // The first error in processing order is returned; within one table the earliest in the file
 // wins. Its steps live in loader.cpp (files, includes, errors, parameters and variants),
-// read_objects.cpp, read_script.cpp and read_checks.cpp (expectations and goals). Private to the
-// level module.
+// read_objects.cpp, read_script.cpp and read_checks.cpp (expectations and goals); the keys they
+// read are described in describe.h. Private to the level module.
 #pragma once
 
 #include "toml_reader.h"

@@ -1,4 +1,5 @@
 // Loader: [[expect]] (expectations the runner checks) and [[goals]] (targets drawn in play).
+#include "describe.h"
 #include "loader.h"
 
 #include "proxygrasp/core/text.h"
@@ -27,22 +28,15 @@ MaybeError Loader::ReadRegion(const toml::table& t, bool required, const std::st
   }
   Region r;
   TableReader reader(t, "");
-  Errors errors;
+  DescribeRegion(r, reader);
+  const Errors errors = reader.errors;
   Errors missing;
   if (rect) {
     r.kind = Region::Kind::kRect;
-    reader.Vector("min", r.min, -1000, 1000, "cm",
-                  "region: the rectangle corner with the smallest x and y");
-    reader.Vector("max", r.max, -1000, 1000, "cm",
-                  "region: the rectangle corner with the largest x and y");
-    errors = reader.errors;
     Missing(t, "min", what, missing);
     Missing(t, "max", what, missing);
   } else {
     r.kind = Region::Kind::kCircle;
-    reader.Vector("center", r.center, -1000, 1000, "cm", "region: the circle's centre");
-    reader.Real("radius", r.radius, 0.001, 1000, "cm", "region: the circle's radius");
-    errors = reader.errors;
     Missing(t, "center", what, missing);
     Missing(t, "radius", what, missing);
   }
@@ -122,42 +116,18 @@ MaybeError Loader::ReadExpectation(const toml::table& t, const Level& level, Exp
   const std::string what = "a " + kindName + " expectation";
 
   // types and ranges
-  double at = 0.0;
-  ProxyMode mode = ProxyMode::kPersistent;
-  double aboveDeg = 0.0, belowDeg = 0.0;
+  ExpectationKeys keys;
   TableReader reader(t, "");
-  reader.Real("at", at, 0, 3600, "s",
-              "time of the check from the start of the level; default: the end of the run "
-              "(resting: the contact's last keyframe)");
-  VisitEnum(reader, "mode", mode, kProxyModeNames, "check only in runs of this proxy mode");
-  reader.Text("variant", e.variant, "check only in runs of this variant; default: the base level");
-  reader.Text("label", e.label, "free text shown beside the result");
-  reader.Text("object", e.object, "the object's name");
-  reader.Text("contact", e.contact, "resting: the script contact's name");
-  reader.Text("on", e.on, "resting: an object's name, or \"table\"");
-  if (e.kind == ExpectKind::kRotation) {
-    reader.Real("above", aboveDeg, -36000, 36000, "deg",
-                "rotation: lower bound of the total signed rotation since the start");
-    reader.Real("below", belowDeg, -36000, 36000, "deg",
-                "rotation: upper bound of the total signed rotation since the start");
-  } else {
-    reader.Real("above", e.above, 0, 10000, "cm",
-                "displacement: lower bound of the distance moved from the start");
-    reader.Real("below", e.below, 0, 10000, "cm",
-                "displacement: upper bound of the distance moved from the start");
-  }
-  reader.Boolean("held", e.held, "held: whether the object must be held (true) or not (false)");
-  reader.Real("fraction", e.fraction, 0.01, 1, "",
-              "resting: the smallest fraction of the contact's particles that must rest there");
+  DescribeExpectation(e, keys, reader);
   Errors errors = reader.errors;
   UnknownKeys(t, known, " in " + what, errors);
   Errors missing;
   for (const std::string& key : required) Missing(t, key.c_str(), what, missing);
   if (MaybeError s = Earliest(errors, missing)) return s;
-  if (t.contains("at")) e.at = at;
-  if (t.contains("mode")) e.mode = mode;
-  if (e.kind == ExpectKind::kRotation && t.contains("above")) e.minAngle = DegToRad(aboveDeg);
-  if (e.kind == ExpectKind::kRotation && t.contains("below")) e.maxAngle = DegToRad(belowDeg);
+  if (t.contains("at")) e.at = keys.at;
+  if (t.contains("mode")) e.mode = keys.mode;
+  if (e.kind == ExpectKind::kRotation && t.contains("above")) e.minAngle = DegToRad(keys.aboveDeg);
+  if (e.kind == ExpectKind::kRotation && t.contains("below")) e.maxAngle = DegToRad(keys.belowDeg);
 
   // kind-specific meaning
   switch (e.kind) {
@@ -171,10 +141,10 @@ MaybeError Loader::ReadExpectation(const toml::table& t, const Level& level, Exp
       if (!t.contains("above") && !t.contains("below")) {
         return MakeError(e.loc, what + " needs above, below or both");
       }
-      if (t.contains("above") && t.contains("below") && aboveDeg > belowDeg) {
-        return MakeError(ValueLoc(t, "below"), "below (" + FormatDouble(belowDeg) +
+      if (t.contains("above") && t.contains("below") && keys.aboveDeg > keys.belowDeg) {
+        return MakeError(ValueLoc(t, "below"), "below (" + FormatDouble(keys.belowDeg) +
                                                    " deg) must not be less than above (" +
-                                                   FormatDouble(aboveDeg) + " deg)");
+                                                   FormatDouble(keys.aboveDeg) + " deg)");
       }
       break;
     case ExpectKind::kDisplacement:
@@ -241,14 +211,9 @@ MaybeError Loader::BuildGoals(const toml::table& root, Level& level) {
   for (const toml::table* t : tables) {
     Goal g;
     g.loc = Loc(t->source());
-    double angleDeg = 0.0;
-    double toleranceDeg = RadToDeg(g.tolerance);
+    GoalKeys keys{0.0, RadToDeg(g.tolerance)};
     TableReader reader(*t, "");
-    reader.Text("object", g.object, "the object's name");
-    reader.Text("label", g.label, "text drawn beside the goal");
-    reader.Real("angle", angleDeg, -360, 360, "deg",
-                "the object's absolute angle to reach, compared modulo 360");
-    reader.Real("tolerance", toleranceDeg, 0, 180, "deg", "allowed angle error; only with angle");
+    DescribeGoal(g, keys, reader);
     reader.known.insert(reader.known.end(), {"min", "max", "center", "radius"});
     Errors errors = reader.errors;
     UnknownKeys(*t, reader.known, " in a goal", errors);
@@ -256,11 +221,11 @@ MaybeError Loader::BuildGoals(const toml::table& root, Level& level) {
     Missing(*t, "object", "goal", missing);
     if (MaybeError s = Earliest(errors, missing)) return s;
     if (MaybeError s = ReadRegion(*t, false, "a goal", g.zone)) return s;
-    if (t->contains("angle")) g.angle = DegToRad(angleDeg);
+    if (t->contains("angle")) g.angle = DegToRad(keys.angleDeg);
     if (t->contains("tolerance") && !g.angle) {
       return MakeError(KeyLoc(*t, "tolerance"), "tolerance needs angle");
     }
-    g.tolerance = DegToRad(toleranceDeg);
+    g.tolerance = DegToRad(keys.toleranceDeg);
     if (!g.zone && !g.angle) {
       return MakeError(g.loc,
                        "a goal needs a zone (min and max, or center and radius), angle or both");

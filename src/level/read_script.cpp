@@ -1,4 +1,5 @@
 // Loader: [script], its contacts and keyframes, and a recording as input.
+#include "describe.h"
 #include "loader.h"
 
 #include "proxygrasp/core/text.h"
@@ -19,24 +20,14 @@ MaybeError Loader::BuildScript(const toml::table& root, Level& level) {
   std::optional<double> duration;
   if (t) {
     script.loc = Loc(t->source());
-    // duration and interpolation
-    Errors errors;
-    UnknownKeys(*t, {"duration", "interpolation", "contacts", "recording"}, " in [script]", errors);
-    struct Head {
-      double duration = 1.0;
-      Interpolation interpolation = Interpolation::kLinear;
-    } head;
+    // duration, interpolation and recording
     TableReader reader(*t, "script.");
-    reader.Real("duration", head.duration, 0.01, 3600, "s",
-                "length of the level; default: the last keyframe plus 1 s");
-    VisitEnum(reader, "interpolation", head.interpolation, kInterpolationNames,
-              "how contacts move between keyframes");
-    reader.Text("recording", script.recording,
-                "a recorded video that replaces the contacts, relative to this file");
-    errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
+    DescribeScript(script, reader);
+    reader.known.emplace_back("contacts");
+    Errors errors = reader.errors;
+    UnknownKeys(*t, reader.known, " in [script]", errors);
     if (MaybeError s = Earliest(errors)) return s;
-    if (t->contains("duration")) duration = head.duration;
-    script.interpolation = head.interpolation;
+    if (t->contains("duration")) duration = script.duration;
     if (MaybeError s = ReadRecording(*t, level)) return s;
 
     // contacts
@@ -107,10 +98,7 @@ MaybeError Loader::ReadRecording(const toml::table& t, Level& level) {
 MaybeError Loader::ReadContact(const toml::table& t, const Script& script, ScriptContact& contact) {
   // name, interpolation and the shape's keys
   TableReader reader(t, "");
-  reader.Text("name", contact.name, "unique name, used by resting expectations (required)");
-  VisitEnum(reader, "interpolation", contact.interpolation, kInterpolationNames,
-            "how contacts move between keyframes");
-  DescribeContactShape(contact.shape, reader);
+  DescribeScriptContact(contact, reader);
   reader.known.emplace_back("keys");
   Errors errors = reader.errors;
   UnknownKeys(t, reader.known, " in a contact", errors);
@@ -159,12 +147,7 @@ MaybeError Loader::ReadContact(const toml::table& t, const Script& script, Scrip
     Keyframe key;
     key.loc = Loc(k->source());
     TableReader keyReader(*k, "");
-    keyReader.Real("t", key.t, 0, 3600, "s",
-                   "time of the keyframe from the start of the level (required)");
-    keyReader.Vector("pos", key.pose.pos, -1000, 1000, "cm",
-                     "position of the contact's centre on the table (required)");
-    keyReader.Angle("angle", key.pose.angle, -36000, 36000, "deg",
-                    "the contact's angle, counter-clockwise; not wrapped");
+    DescribeKeyframe(key, keyReader);
     Errors keyErrors = keyReader.errors;
     Errors keyMissing;
     UnknownKeys(*k, keyReader.known, " in a keyframe", keyErrors);
