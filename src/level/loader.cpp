@@ -221,41 +221,36 @@ MaybeError Loader::ReadParams(const toml::table& root, const std::string& prefix
 }
 
 MaybeError Loader::BuildVariants(const toml::table& root, Level& level) {
-  const toml::node* node = root.get("variants");
-  if (!node) return std::nullopt;
-  std::vector<const toml::table*> tables;
-  if (MaybeError s = TablesOf(*node, "variants", tables)) return s;
-  for (const toml::table* t : tables) {
+  return EachTable(root.get("variants"), "variants", [&](const toml::table& t) -> MaybeError {
     Variant variant;
-    variant.loc = Loc(t->source());
+    variant.loc = Loc(t.source());
     variant.params = level.params;
     Errors errors;
     std::vector<std::string> known(std::begin(kParamTables), std::end(kParamTables));
     known.emplace_back("name");
-    UnknownKeys(*t, known, " in a variant", errors);
+    UnknownKeys(t, known, " in a variant", errors);
     Errors missing;
-    Missing(*t, "name", "variant", missing);
-    TableReader reader(*t, "");
+    Missing(t, "name", "variant", missing);
+    TableReader reader(t, "");
     reader.Text("name", variant.name, "the variant's name, used by expectations (required)");
     errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
     for (const char* key : kParamTables) {
-      const toml::node* n = t->get(key);
+      const toml::node* n = t.get(key);
       if (n && !n->is_table()) {
         errors.push_back(MakeError(Loc(n->source()),
                                    std::string(key) + " must be a table, got " + TomlTypeName(*n)));
       }
     }
     if (MaybeError s = Earliest(errors, missing)) return s;
-    if (variant.name.empty()) return MakeError(ValueLoc(*t, "name"), "name must not be empty");
+    if (variant.name.empty()) return MakeError(ValueLoc(t, "name"), "name must not be empty");
     if (const Variant* first = level.FindVariant(variant.name)) {
-      return MakeError(ValueLoc(*t, "name"), "duplicate variant name '" + variant.name +
-                                                 "' (first defined at " + first->loc.Format() +
-                                                 ")");
+      return MakeError(ValueLoc(t, "name"), "duplicate variant name '" + variant.name +
+                                                "' (first defined at " + first->loc.Format() + ")");
     }
-    if (MaybeError s = ReadParams(*t, "variants.", variant.params)) return s;
+    if (MaybeError s = ReadParams(t, "variants.", variant.params)) return s;
     level.variants.push_back(std::move(variant));
-  }
-  return std::nullopt;
+    return std::nullopt;
+  });
 }
 
 }  // namespace pg::levelfile

@@ -10,7 +10,9 @@
 
 #include "proxygrasp/level/level.h"
 
+#include <initializer_list>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -51,6 +53,35 @@ class Loader {
   // the tables of an array of tables, or an error naming the expected form
   static MaybeError TablesOf(const toml::node& n, const std::string& key,
                              std::vector<const toml::table*>& tables);
+
+  // read(table) for each table of the array of tables `node` (none when it is null), named `key`
+  // in messages; the first error stops it
+  template <typename Read>
+  static MaybeError EachTable(const toml::node* node, const std::string& key, Read read) {
+    if (!node) return std::nullopt;
+    std::vector<const toml::table*> tables;
+    if (MaybeError s = TablesOf(*node, key, tables)) return s;
+    for (const toml::table* t : tables) {
+      if (MaybeError s = read(*t)) return s;
+    }
+    return std::nullopt;
+  }
+
+  // reads t's keys through describe(reader): a wrong type or range, or a key not described
+  // ("unknown key 'k'<where>"), goes to errors; a required key t lacks ("<what> is missing
+  // required key 'k'") to missing. Returns the keys whose value was rejected.
+  template <typename Describe>
+  static std::set<std::string> ReadKeys(const toml::table& t, Describe describe,
+                                        const std::string& where, const std::string& what,
+                                        std::initializer_list<const char*> required, Errors& errors,
+                                        Errors& missing) {
+    TableReader reader(t, "");
+    describe(reader);
+    errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
+    UnknownKeys(t, reader.known, where, errors);
+    for (const char* key : required) Missing(t, key, what, missing);
+    return reader.bad;
+  }
 
   MaybeError Build(const toml::table& root, Level& level);
 

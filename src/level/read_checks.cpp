@@ -66,16 +66,12 @@ MaybeError Loader::CheckObjectName(const toml::table& t, const char* key, const 
 }
 
 MaybeError Loader::BuildExpectations(const toml::table& root, Level& level) {
-  const toml::node* node = root.get("expect");
-  if (!node) return std::nullopt;
-  std::vector<const toml::table*> tables;
-  if (MaybeError s = TablesOf(*node, "expect", tables)) return s;
-  for (const toml::table* t : tables) {
+  return EachTable(root.get("expect"), "expect", [&](const toml::table& t) -> MaybeError {
     Expectation e;
-    if (MaybeError s = ReadExpectation(*t, level, e)) return s;
+    if (MaybeError s = ReadExpectation(t, level, e)) return s;
     level.expectations.push_back(std::move(e));
-  }
-  return std::nullopt;
+    return std::nullopt;
+  });
 }
 
 MaybeError Loader::ReadExpectation(const toml::table& t, const Level& level, Expectation& e) {
@@ -204,36 +200,31 @@ MaybeError Loader::ReadExpectation(const toml::table& t, const Level& level, Exp
 }
 
 MaybeError Loader::BuildGoals(const toml::table& root, Level& level) {
-  const toml::node* node = root.get("goals");
-  if (!node) return std::nullopt;
-  std::vector<const toml::table*> tables;
-  if (MaybeError s = TablesOf(*node, "goals", tables)) return s;
-  for (const toml::table* t : tables) {
+  return EachTable(root.get("goals"), "goals", [&](const toml::table& t) -> MaybeError {
     Goal g;
-    g.loc = Loc(t->source());
+    g.loc = Loc(t.source());
     GoalKeys keys{0.0, RadToDeg(g.tolerance)};
-    TableReader reader(*t, "");
-    DescribeGoal(g, keys, reader);
-    reader.known.insert(reader.known.end(), {"min", "max", "center", "radius"});
-    Errors errors = reader.errors;
-    UnknownKeys(*t, reader.known, " in a goal", errors);
-    Errors missing;
-    Missing(*t, "object", "goal", missing);
+    Errors errors, missing;
+    const auto describe = [&g, &keys](TableReader& r) {
+      DescribeGoal(g, keys, r);
+      r.known.insert(r.known.end(), {"min", "max", "center", "radius"});
+    };
+    ReadKeys(t, describe, " in a goal", "goal", {"object"}, errors, missing);
     if (MaybeError s = Earliest(errors, missing)) return s;
-    if (MaybeError s = ReadRegion(*t, false, "a goal", g.zone)) return s;
-    if (t->contains("angle")) g.angle = DegToRad(keys.angleDeg);
-    if (t->contains("tolerance") && !g.angle) {
-      return MakeError(KeyLoc(*t, "tolerance"), "tolerance needs angle");
+    if (MaybeError s = ReadRegion(t, false, "a goal", g.zone)) return s;
+    if (t.contains("angle")) g.angle = DegToRad(keys.angleDeg);
+    if (t.contains("tolerance") && !g.angle) {
+      return MakeError(KeyLoc(t, "tolerance"), "tolerance needs angle");
     }
     g.tolerance = DegToRad(keys.toleranceDeg);
     if (!g.zone && !g.angle) {
       return MakeError(g.loc,
                        "a goal needs a zone (min and max, or center and radius), angle or both");
     }
-    if (MaybeError s = CheckObjectName(*t, "object", g.object, level, false)) return s;
+    if (MaybeError s = CheckObjectName(t, "object", g.object, level, false)) return s;
     level.goals.push_back(std::move(g));
-  }
-  return std::nullopt;
+    return std::nullopt;
+  });
 }
 
 }  // namespace pg::levelfile

@@ -11,31 +11,23 @@ namespace pg::levelfile {
 namespace fs = std::filesystem;
 
 MaybeError Loader::BuildObjects(const toml::table& root, Level& level) {
-  const toml::node* node = root.get("objects");
-  if (!node) return std::nullopt;
-  std::vector<const toml::table*> tables;
-  if (MaybeError s = TablesOf(*node, "objects", tables)) return s;
-  for (const toml::table* t : tables) {
+  return EachTable(root.get("objects"), "objects", [&](const toml::table& t) -> MaybeError {
     ObjectSpec o;
-    o.loc = Loc(t->source());
-    if (MaybeError s = ReadObject(*t, level, o)) return s;
+    o.loc = Loc(t.source());
+    if (MaybeError s = ReadObject(t, level, o)) return s;
     level.objects.push_back(std::move(o));
-  }
-  return std::nullopt;
+    return std::nullopt;
+  });
 }
 
 MaybeError Loader::ReadObject(const toml::table& t, const Level& level, ObjectSpec& o) {
   // types and ranges of every key, then keys that do not fit the shape
-  TableReader reader(t, "");
-  DescribeObject(o, reader);
-  Errors errors = reader.errors;
-  UnknownKeys(t, reader.known, " in an object", errors);
-  Errors missing;
-  Missing(t, "name", "object", missing);
-  Missing(t, "shape", "object", missing);
-  Missing(t, "pos", "object", missing);
+  Errors errors, missing;
+  const std::set<std::string> bad = ReadKeys(
+      t, [&o](TableReader& r) { DescribeObject(o, r); }, " in an object", "object",
+      {"name", "shape", "pos"}, errors, missing);
   const std::string shapeName = kObjectShapeNames[static_cast<int>(o.shape)];
-  if (t.contains("shape") && !reader.bad.count("shape")) {
+  if (t.contains("shape") && !bad.count("shape")) {
     CheckShapeKeys(
         t, [&o](std::string_view key) { return ObjectKeyApplies(o.shape, key); }, shapeName,
         shapeName + " object", ObjectSizeKeys(o.shape), errors, missing);

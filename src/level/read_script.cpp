@@ -31,17 +31,16 @@ MaybeError Loader::BuildScript(const toml::table& root, Level& level) {
     if (MaybeError s = ReadRecording(*t, level)) return s;
 
     // contacts
-    if (const toml::node* contacts = t->get("contacts")) {
-      std::vector<const toml::table*> tables;
-      if (MaybeError s = TablesOf(*contacts, "script.contacts", tables)) return s;
-      for (const toml::table* c : tables) {
-        ScriptContact contact;
-        contact.loc = Loc(c->source());
-        contact.interpolation = script.interpolation;
-        if (MaybeError s = ReadContact(*c, script, contact)) return s;
-        script.contacts.push_back(std::move(contact));
-      }
-    }
+    MaybeError s =
+        EachTable(t->get("contacts"), "script.contacts", [&](const toml::table& c) -> MaybeError {
+          ScriptContact contact;
+          contact.loc = Loc(c.source());
+          contact.interpolation = script.interpolation;
+          if (MaybeError s = ReadContact(c, script, contact)) return s;
+          script.contacts.push_back(std::move(contact));
+          return std::nullopt;
+        });
+    if (s) return s;
   }
 
   // the duration covers every keyframe; by default it runs on to let objects settle, or as long
@@ -97,17 +96,15 @@ MaybeError Loader::ReadRecording(const toml::table& t, Level& level) {
 
 MaybeError Loader::ReadContact(const toml::table& t, const Script& script, ScriptContact& contact) {
   // name, interpolation and the shape's keys
-  TableReader reader(t, "");
-  DescribeScriptContact(contact, reader);
-  reader.known.emplace_back("keys");
-  Errors errors = reader.errors;
-  UnknownKeys(t, reader.known, " in a contact", errors);
-  Errors missing;
-  Missing(t, "name", "contact", missing);
-  Missing(t, "shape", "contact", missing);
-  Missing(t, "keys", "contact", missing);
+  Errors errors, missing;
+  const auto describe = [&contact](TableReader& r) {
+    DescribeScriptContact(contact, r);
+    r.known.emplace_back("keys");
+  };
+  const std::set<std::string> bad =
+      ReadKeys(t, describe, " in a contact", "contact", {"name", "shape", "keys"}, errors, missing);
   const std::string shapeName = kShapeKindNames[static_cast<int>(contact.shape.kind)];
-  if (t.contains("shape") && !reader.bad.count("shape")) {
+  if (t.contains("shape") && !bad.count("shape")) {
     const ShapeKind kind = contact.shape.kind;
     CheckShapeKeys(
         t, [kind](std::string_view key) { return ContactKeyApplies(kind, key); },
@@ -146,13 +143,10 @@ MaybeError Loader::ReadContact(const toml::table& t, const Script& script, Scrip
     }
     Keyframe key;
     key.loc = Loc(k->source());
-    TableReader keyReader(*k, "");
-    DescribeKeyframe(key, keyReader);
-    Errors keyErrors = keyReader.errors;
-    Errors keyMissing;
-    UnknownKeys(*k, keyReader.known, " in a keyframe", keyErrors);
-    Missing(*k, "t", "keyframe", keyMissing);
-    Missing(*k, "pos", "keyframe", keyMissing);
+    Errors keyErrors, keyMissing;
+    ReadKeys(
+        *k, [&key](TableReader& r) { DescribeKeyframe(key, r); }, " in a keyframe", "keyframe",
+        {"t", "pos"}, keyErrors, keyMissing);
     if (MaybeError s = Earliest(keyErrors, keyMissing)) return s;
     if (!contact.keys.empty() && key.t <= contact.keys.back().t) {
       return MakeError(key.loc, "keyframe out of order: t = " + FormatDouble(key.t) +

@@ -56,8 +56,6 @@ TEST(Describe, SizeKeysApplyToTheirShapes) {
   EXPECT_TRUE(ContactKeyApplies(ShapeKind::kEllipse, "pressure"));
 }
 
-// docs/levels.md is written by hand around these keys; every key must appear in a table row with
-// its default, so the reference cannot drift from the code
 TEST(Describe, SizeKeysOfAShapeComeFromTheDescription) {
   EXPECT_EQ(ObjectSizeKeys(ObjectShape::kBox), "size_x, size_y, height");
   EXPECT_EQ(ObjectSizeKeys(ObjectShape::kSphere), "radius");
@@ -68,33 +66,12 @@ TEST(Describe, SizeKeysOfAShapeComeFromTheDescription) {
   EXPECT_EQ(ContactSizeKeys(ShapeKind::kHandFlat), "scale");
 }
 
-TEST(Describe, DocsListEveryObjectAndContactKeyWithItsDefault) {
+// docs/levels.md, or "" when it cannot be read
+std::string LevelsDoc() {
   std::ifstream in(std::string(PROXYGRASP_SOURCE_DIR) + "/docs/levels.md");
-  ASSERT_TRUE(in) << "docs/levels.md is missing";
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string doc = buffer.str();
-  auto section = [&doc](const std::string& heading) {
-    const size_t b = doc.find(heading);
-    EXPECT_NE(b, std::string::npos) << heading;
-    if (b == std::string::npos) return std::string();
-    const size_t e = doc.find("\n### ", b + 1);
-    return doc.substr(b, e == std::string::npos ? std::string::npos : e - b);
-  };
-  const std::string objects = section("### [[objects]]");
-  for (const FieldInfo& f : ObjectFields()) {
-    const bool required = f.key == "name" || f.key == "shape" || f.key == "pos";
-    const std::string value = required ? "required" : f.value;
-    EXPECT_NE(objects.find("| `" + f.key + "` | `" + value + "` |"), std::string::npos)
-        << "docs/levels.md [[objects]] lacks a row for " << f.key << " with default " << value;
-  }
-  const std::string contacts = section("### [[script.contacts]]");
-  for (const FieldInfo& f : ContactFields()) {
-    const std::string value = f.key == "shape" ? "required" : f.value;
-    EXPECT_NE(contacts.find("| `" + f.key + "` | `" + value + "` |"), std::string::npos)
-        << "docs/levels.md [[script.contacts]] lacks a row for " << f.key << " with default "
-        << value;
-  }
+  return buffer.str();
 }
 
 // the part of doc under heading, up to the next heading of the same or a higher level
@@ -119,6 +96,32 @@ std::vector<std::string> RowsOf(const std::string& section, const std::string& k
   return rows;
 }
 
+// docs/levels.md is written by hand around these keys; every key must appear in a table row with
+// its default, so the reference cannot drift from the code
+TEST(Describe, DocsListEveryObjectAndContactKeyWithItsDefault) {
+  const std::string doc = LevelsDoc();
+  ASSERT_FALSE(doc.empty()) << "docs/levels.md is missing";
+  auto section = [&doc](const std::string& heading) {
+    const std::string text = DocSection(doc, heading);
+    EXPECT_FALSE(text.empty()) << heading;
+    return text;
+  };
+  const std::string objects = section("### [[objects]]");
+  for (const FieldInfo& f : ObjectFields()) {
+    const bool required = f.key == "name" || f.key == "shape" || f.key == "pos";
+    const std::string value = required ? "required" : f.value;
+    EXPECT_NE(objects.find("| `" + f.key + "` | `" + value + "` |"), std::string::npos)
+        << "docs/levels.md [[objects]] lacks a row for " << f.key << " with default " << value;
+  }
+  const std::string contacts = section("### [[script.contacts]]");
+  for (const FieldInfo& f : ContactFields()) {
+    const std::string value = f.key == "shape" ? "required" : f.value;
+    EXPECT_NE(contacts.find("| `" + f.key + "` | `" + value + "` |"), std::string::npos)
+        << "docs/levels.md [[script.contacts]] lacks a row for " << f.key << " with default "
+        << value;
+  }
+}
+
 TEST(Describe, FileKeysAreDocumented) {
   std::set<std::string> names;
   for (const ParamSection& section : FileSections()) {
@@ -139,11 +142,8 @@ TEST(Describe, FileKeysAreDocumented) {
 // every key of the file's own tables has a row in its docs/levels.md section that gives its unit,
 // and a row that starts with the key alone gives its default (or says it is required)
 TEST(Describe, DocsListEveryFileKeyWithItsUnitAndDefault) {
-  std::ifstream in(std::string(PROXYGRASP_SOURCE_DIR) + "/docs/levels.md");
-  ASSERT_TRUE(in) << "docs/levels.md is missing";
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string doc = buffer.str();
+  const std::string doc = LevelsDoc();
+  ASSERT_FALSE(doc.empty()) << "docs/levels.md is missing";
   const std::vector<std::pair<std::string, std::vector<std::string>>> headings = {
       {"script", {"### [script]"}},  {"script.contacts", {"### [[script.contacts]]"}},
       {"keys", {"### keys"}},        {"region", {"## [[expect]]", "## [[goals]]"}},
