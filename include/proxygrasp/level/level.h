@@ -1,7 +1,9 @@
-// A level as loaded from its TOML file: parameters, objects, a script of contacts, expectations the
-// headless runner checks, goals for play, and named parameter variants. docs/levels.md is the
-// reference of the file format. Loading parses, validates and builds; on any error it returns the
-// Error (file:line:col: message) and no Level, so nothing is ever half-loaded.
+// A level as loaded from its TOML file: parameters, objects, a script of contacts, expectations
+// (checked by the run module's Evaluator, run/expectations.h), goals for play, and named parameter
+// variants. This module is the file format only; running a level is the run module's (RunLevel,
+// run/runner.h). docs/levels.md is the reference of the file format. Loading parses, validates and
+// builds; on any error it returns the Error (file:line:col: message) and no Level, so nothing is
+// ever half-loaded.
 #pragma once
 
 #include "proxygrasp/core/error.h"
@@ -48,7 +50,7 @@ inline constexpr const char* kExpectKindNames[] = {"position", "rotation", "disp
 /// Default fraction of a contact's particles that must rest where a "resting" expectation says.
 inline constexpr double kDefaultRestingFraction = 0.8;
 
-/// A condition the headless runner checks at a time or at the end of a run. Angles in radians.
+/// A condition checked at a time or at the end of a run (run/expectations.h). Angles in radians.
 struct Expectation {
   ExpectKind kind = ExpectKind::kPosition;
   std::string object;   ///< position, rotation, displacement, held: the object's name
