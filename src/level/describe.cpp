@@ -125,6 +125,10 @@ void DescribeKeyframe(Keyframe& k, ParamVisitor& v) {
           "the contact's angle, counter-clockwise; not wrapped");
 }
 
+void DescribeVariant(Variant& variant, ParamVisitor& v) {
+  v.Text("name", variant.name, "the variant's name, used by expectations (required)");
+}
+
 void DescribeRegion(Region& r, ParamVisitor& v) {
   v.Vector("min", r.min, -1000, 1000, "cm",
            "region: the rectangle corner with the smallest x and y");
@@ -197,6 +201,7 @@ std::vector<ParamSection> FileSections() {
       Owned("script", Script{}, levelfile::DescribeScript),
       Owned("script.contacts", ScriptContact{}, levelfile::DescribeScriptContact),
       Owned("keys", Keyframe{}, levelfile::DescribeKeyframe),
+      Owned("variants", Variant{}, levelfile::DescribeVariant),
       Owned("region", Region{}, levelfile::DescribeRegion),
       Owned("expect", ExpectationEntry{},
             [](ExpectationEntry& x, ParamVisitor& v) {

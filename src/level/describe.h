@@ -16,6 +16,9 @@ void DescribeScriptContact(ScriptContact& c, ParamVisitor& v);
 /// A keyframe's keys: t, pos and angle (degrees).
 void DescribeKeyframe(Keyframe& k, ParamVisitor& v);
 
+/// A [[variants]] entry's own key, its name; its parameter tables are the level's.
+void DescribeVariant(Variant& variant, ParamVisitor& v);
+
 /// A region's keys: min and max, or center and radius.
 void DescribeRegion(Region& r, ParamVisitor& v);
 

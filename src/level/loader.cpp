@@ -1,6 +1,8 @@
 // Loader: files, includes, error order, parameter tables and variants.
 #include "loader.h"
 
+#include "describe.h"
+
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
 
@@ -232,7 +234,7 @@ MaybeError Loader::BuildVariants(const toml::table& root, Level& level) {
     Errors missing;
     Missing(t, "name", "variant", missing);
     TableReader reader(t, "");
-    reader.Text("name", variant.name, "the variant's name, used by expectations (required)");
+    DescribeVariant(variant, reader);
     errors.insert(errors.end(), reader.errors.begin(), reader.errors.end());
     for (const char* key : kParamTables) {
       const toml::node* n = t.get(key);

@@ -135,8 +135,8 @@ TEST(Describe, FileKeysAreDocumented) {
           << section.name << "." << f.key << " has no unit";
     }
   }
-  EXPECT_EQ(names, (std::set<std::string>{"script", "script.contacts", "keys", "region", "expect",
-                                          "expect.rotation", "goals"}));
+  EXPECT_EQ(names, (std::set<std::string>{"script", "script.contacts", "keys", "variants", "region",
+                                          "expect", "expect.rotation", "goals"}));
 }
 
 // every key of the file's own tables has a row in its docs/levels.md section that gives its unit,
@@ -145,9 +145,13 @@ TEST(Describe, DocsListEveryFileKeyWithItsUnitAndDefault) {
   const std::string doc = LevelsDoc();
   ASSERT_FALSE(doc.empty()) << "docs/levels.md is missing";
   const std::vector<std::pair<std::string, std::vector<std::string>>> headings = {
-      {"script", {"### [script]"}},  {"script.contacts", {"### [[script.contacts]]"}},
-      {"keys", {"### keys"}},        {"region", {"## [[expect]]", "## [[goals]]"}},
-      {"expect", {"## [[expect]]"}}, {"expect.rotation", {"## [[expect]]"}},
+      {"script", {"### [script]"}},
+      {"script.contacts", {"### [[script.contacts]]"}},
+      {"keys", {"### keys"}},
+      {"variants", {"## [[variants]]"}},
+      {"region", {"## [[expect]]", "## [[goals]]"}},
+      {"expect", {"## [[expect]]"}},
+      {"expect.rotation", {"## [[expect]]"}},
       {"goals", {"## [[goals]]"}},
   };
   // defaults the docs give otherwise than the description's value
@@ -159,6 +163,7 @@ TEST(Describe, DocsListEveryFileKeyWithItsUnitAndDefault) {
       {"keys.pos", "required"},
       {"expect.kind", "required"},
       {"expect.rotation.kind", "required"},
+      {"variants.name", "required"},
       {"goals.object", "required"}};
   for (const ParamSection& section : FileSections()) {
     std::vector<std::string> docs;

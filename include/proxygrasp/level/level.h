@@ -126,9 +126,9 @@ void DescribeObject(ObjectSpec& o, ParamVisitor& v);
 void DescribeContactShape(ContactShape& c, ParamVisitor& v);
 
 /// The level file's own tables as the loader describes their keys, for docs and listings:
-/// "script", "script.contacts" (every shape's keys), "keys" (a keyframe), "region" (of positions
-/// and goals), "expect" (above and below in cm, as displacement takes them), "expect.rotation"
-/// (in degrees) and "goals". Each section describes defaults of its own.
+/// "script", "script.contacts" (every shape's keys), "keys" (a keyframe), "variants" (the name),
+/// "region" (of positions and goals), "expect" (above and below in cm, as displacement takes them),
+/// "expect.rotation" (in degrees) and "goals". Each section describes defaults of its own.
 std::vector<ParamSection> FileSections();
 
 /// True when an [[objects]] key is meaningful for the shape (size_x applies to boxes only, ...).
