@@ -138,8 +138,29 @@ void DescribeRegion(Region& r, ParamVisitor& v) {
   v.Real("radius", r.radius, 0.001, 1000, "cm", "region: the circle's radius");
 }
 
+std::vector<std::string> RegionKeys() {
+  Region r;
+  std::vector<std::string> keys;
+  for (const FieldInfo& f : ListFields({"region", [&r](ParamVisitor& v) { DescribeRegion(r, v); }}))
+    keys.push_back(f.key);
+  return keys;
+}
+
+void DescribeExpectKind(ExpectKind& kind, ParamVisitor& v) {
+  VisitEnum(v, "kind", kind, kExpectKindNames, "what the expectation checks (required)");
+}
+
+bool ExpectKeyApplies(ExpectKind kind, std::string_view key) {
+  using K = ExpectKind;
+  if (key == "object") return kind != K::kResting;
+  if (key == "contact" || key == "on" || key == "fraction") return kind == K::kResting;
+  if (key == "above" || key == "below") return kind == K::kRotation || kind == K::kDisplacement;
+  if (key == "held") return kind == K::kHeld;
+  return true;
+}
+
 void DescribeExpectation(Expectation& e, ExpectationKeys& k, ParamVisitor& v) {
-  VisitEnum(v, "kind", e.kind, kExpectKindNames, "what the expectation checks (required)");
+  DescribeExpectKind(e.kind, v);
   v.Real("at", k.at, 0, 3600, "s",
          "time of the check from the start of the level; default: the end of the run "
          "(resting: the contact's last keyframe)");

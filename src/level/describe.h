@@ -5,6 +5,10 @@
 
 #include "proxygrasp/level/level.h"
 
+#include <string>
+#include <string_view>
+#include <vector>
+
 namespace pg::levelfile {
 
 /// [script]'s own keys: duration, interpolation and recording.
@@ -22,6 +26,9 @@ void DescribeVariant(Variant& variant, ParamVisitor& v);
 /// A region's keys: min and max, or center and radius.
 void DescribeRegion(Region& r, ParamVisitor& v);
 
+/// The keys DescribeRegion visits, in its order.
+std::vector<std::string> RegionKeys();
+
 /// The values of an [[expect]] entry that the file writes otherwise than Expectation holds them.
 struct ExpectationKeys {
   double at = 0.0;  ///< s; the loader sets Expectation::at only when the file gives it
@@ -29,6 +36,13 @@ struct ExpectationKeys {
   double aboveDeg = 0.0;                    ///< rotation: lower bound, deg
   double belowDeg = 0.0;                    ///< rotation: upper bound, deg
 };
+
+/// An [[expect]] entry's kind, which decides the keys that belong.
+void DescribeExpectKind(ExpectKind& kind, ParamVisitor& v);
+
+/// True when a key DescribeExpectation visits belongs to an expectation of this kind (held to
+/// held expectations, above and below to rotation and displacement, ...).
+bool ExpectKeyApplies(ExpectKind kind, std::string_view key);
 
 /// An [[expect]] entry's kind and the keys of every kind but the region's; above and below are in
 /// degrees for a rotation (into k) and in cm otherwise (into e).

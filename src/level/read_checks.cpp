@@ -81,40 +81,27 @@ MaybeError Loader::ReadExpectation(const toml::table& t, const Level& level, Exp
   if (!kindNode) return MakeError(e.loc, "expectation is missing required key 'kind'");
   {
     TableReader reader(t, "");
-    VisitEnum(reader, "kind", e.kind, kExpectKindNames, "what the expectation checks (required)");
+    DescribeExpectKind(e.kind, reader);
     if (!reader.errors.empty()) return reader.errors.front();
-  }
-  std::vector<std::string> known = {"kind", "at", "mode", "variant", "label"};
-  std::vector<std::string> required;
-  switch (e.kind) {
-    case ExpectKind::kPosition:
-      known.insert(known.end(), {"object", "min", "max", "center", "radius"});
-      required = {"object"};
-      break;
-    case ExpectKind::kRotation:
-      known.insert(known.end(), {"object", "above", "below"});
-      required = {"object"};
-      break;
-    case ExpectKind::kDisplacement:
-      known.insert(known.end(), {"object", "above", "below"});
-      required = {"object"};
-      break;
-    case ExpectKind::kHeld:
-      known.insert(known.end(), {"object", "held"});
-      required = {"object"};
-      break;
-    case ExpectKind::kResting:
-      known.insert(known.end(), {"contact", "on", "fraction"});
-      required = {"contact", "on"};
-      break;
   }
   const std::string kindName = kExpectKindNames[static_cast<int>(e.kind)];
   const std::string what = "a " + kindName + " expectation";
 
-  // types and ranges
+  // types and ranges; the keys of the kind (a position's region keys too) are known
   ExpectationKeys keys;
   TableReader reader(t, "");
   DescribeExpectation(e, keys, reader);
+  std::vector<std::string> known;
+  for (const std::string& key : reader.known) {
+    if (ExpectKeyApplies(e.kind, key)) known.push_back(key);
+  }
+  if (e.kind == ExpectKind::kPosition) {
+    const std::vector<std::string> region = RegionKeys();
+    known.insert(known.end(), region.begin(), region.end());
+  }
+  const std::vector<std::string> required = e.kind == ExpectKind::kResting
+                                                ? std::vector<std::string>{"contact", "on"}
+                                                : std::vector<std::string>{"object"};
   Errors errors = reader.errors;
   UnknownKeys(t, known, " in " + what, errors);
   Errors missing;
@@ -207,7 +194,8 @@ MaybeError Loader::BuildGoals(const toml::table& root, Level& level) {
     Errors errors, missing;
     const auto describe = [&g, &keys](TableReader& r) {
       DescribeGoal(g, keys, r);
-      r.known.insert(r.known.end(), {"min", "max", "center", "radius"});
+      const std::vector<std::string> region = RegionKeys();
+      r.known.insert(r.known.end(), region.begin(), region.end());
     };
     ReadKeys(t, describe, " in a goal", "goal", {"object"}, errors, missing);
     if (MaybeError s = Earliest(errors, missing)) return s;
