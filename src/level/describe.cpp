@@ -38,6 +38,13 @@ std::string SizeKeys(Shape shape, int shapes, Spec spec, Applies applies, Descri
   return keys;
 }
 
+// a section that describes its own copy of value
+template <typename T, typename DescribeFn>
+ParamSection Owned(std::string name, T value, DescribeFn describe) {
+  auto owned = std::make_shared<T>(std::move(value));
+  return {std::move(name), [owned, describe](ParamVisitor& v) { describe(*owned, v); }};
+}
+
 }  // namespace
 
 void DescribeObject(ObjectSpec& o, ParamVisitor& v) {
@@ -196,17 +203,6 @@ void DescribeGoal(Goal& g, GoalKeys& k, ParamVisitor& v) {
 
 }  // namespace levelfile
 
-namespace {
-
-// a section that describes its own copy of value
-template <typename T, typename DescribeFn>
-ParamSection Owned(std::string name, T value, DescribeFn describe) {
-  auto owned = std::make_shared<T>(std::move(value));
-  return {std::move(name), [owned, describe](ParamVisitor& v) { describe(*owned, v); }};
-}
-
-}  // namespace
-
 std::vector<ParamSection> FileSections() {
   struct ExpectationEntry {
     Expectation e;
@@ -214,6 +210,9 @@ std::vector<ParamSection> FileSections() {
   };
   Expectation rotation;
   rotation.kind = ExpectKind::kRotation;
+  const auto describeExpectation = [](ExpectationEntry& x, ParamVisitor& v) {
+    levelfile::DescribeExpectation(x.e, x.k, v);
+  };
   struct GoalEntry {
     Goal g;
     levelfile::GoalKeys k{0.0, RadToDeg(Goal{}.tolerance)};
@@ -224,14 +223,8 @@ std::vector<ParamSection> FileSections() {
       Owned("keys", Keyframe{}, levelfile::DescribeKeyframe),
       Owned("variants", Variant{}, levelfile::DescribeVariant),
       Owned("region", Region{}, levelfile::DescribeRegion),
-      Owned("expect", ExpectationEntry{},
-            [](ExpectationEntry& x, ParamVisitor& v) {
-              levelfile::DescribeExpectation(x.e, x.k, v);
-            }),
-      Owned("expect.rotation", ExpectationEntry{rotation, {}},
-            [](ExpectationEntry& x, ParamVisitor& v) {
-              levelfile::DescribeExpectation(x.e, x.k, v);
-            }),
+      Owned("expect", ExpectationEntry{}, describeExpectation),
+      Owned("expect.rotation", ExpectationEntry{rotation, {}}, describeExpectation),
       Owned("goals", GoalEntry{},
             [](GoalEntry& x, ParamVisitor& v) { levelfile::DescribeGoal(x.g, x.k, v); }),
   };
