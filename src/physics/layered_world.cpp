@@ -341,6 +341,19 @@ double LayeredWorld::FootprintDepth(const Vec2& p, double* topHeight) const {
   return m_impl->objects.empty() ? -1e300 : depth;
 }
 
+ObjectId LayeredWorld::ObjectAt(const Vec2& p) const {
+  ObjectId best = kNoObject;
+  double bestTop = -1.0;
+  for (ObjectId i = 0; i < ObjectCount(); ++i) {
+    const ObjectData& o = m_impl->objects[i];
+    if (o.top > bestTop && FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(p)) > 0) {
+      best = i;
+      bestTop = o.top;
+    }
+  }
+  return best;
+}
+
 Vec2 LayeredWorld::NearestOutside(const Vec2& p) const {
   const auto& objects = m_impl->objects;
   constexpr double kEps = 1e-6;  // how far outside the boundary the answer lies, cm

@@ -10,6 +10,10 @@ void Describe(ProxyParams& p, ParamVisitor& v) {
   v.Boolean("subsample", p.subsample,
             "refine each reused particle's target between contour samples, so slow motion along "
             "the contour is followed smoothly instead of in hops of one sample");
+  v.Integer("count_hysteresis", p.countHysteresis, 0, 16, "points",
+            "a continuing contact keeps its point count while sensing's count differs from it by "
+            "at most this many points (fast and windowed searches; sensing noise then creates "
+            "and deletes no particles)");
   v.Integer("search_radius", p.searchRadius, 1, 512, "points",
             "w, half-width of the windowed search around the predicted offset");
   v.Real("fallback_score", p.fallbackScore, 0, 100, "cm^2",

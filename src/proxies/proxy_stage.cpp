@@ -212,8 +212,55 @@ int ProxyStage::LiveCount() const {
   return n;
 }
 
+void ProxyStage::FindGripTurns(const ContactSet& contacts, const SceneQuery& scene) {
+  // a grip: continuing contacts whose outlines reach into the same object's footprint
+  struct Member {
+    Vec2 from;
+    Vec2 to;
+    ContactId id;
+  };
+  std::map<ObjectId, std::vector<Member>> grips;
+  m_gripTurn.clear();
+  for (const Contact& contact : contacts.contacts) {
+    if (contact.state != ContactState::kContinuing) continue;
+    const auto it = m_tracks.find(contact.id);
+    const Contour& cur = contact.blob.contour;
+    if (it == m_tracks.end() || it->second.contour.cols() == 0 || cur.cols() == 0) continue;
+    ObjectId touched = kNoObject;
+    for (Eigen::Index j = 0; j < cur.cols() && touched == kNoObject; ++j) {
+      touched = scene.ObjectAt(cur.col(j));
+    }
+    if (touched == kNoObject) continue;
+    grips[touched].push_back(
+        {it->second.contour.rowwise().mean(), cur.rowwise().mean(), contact.id});
+  }
+  // the grip's turn: the rotation that best carries its contacts' centroids from the last frame
+  // to this one (least squares about their means)
+  for (const auto& [object, members] : grips) {
+    if (members.size() < 2) continue;
+    Vec2 meanFrom = Vec2::Zero(), meanTo = Vec2::Zero();
+    for (const Member& m : members) {
+      meanFrom += m.from;
+      meanTo += m.to;
+    }
+    meanFrom /= static_cast<double>(members.size());
+    meanTo /= static_cast<double>(members.size());
+    double cross = 0.0, dot = 0.0;
+    for (const Member& m : members) {
+      const Vec2 a = m.from - meanFrom;
+      const Vec2 b = m.to - meanTo;
+      cross += a.x() * b.y() - a.y() * b.x();
+      dot += a.dot(b);
+    }
+    if (cross == 0.0 && dot <= 0.0) continue;
+    const double turn = std::atan2(cross, dot);
+    for (const Member& m : members) m_gripTurn[m.id] = turn;
+  }
+}
+
 void ProxyStage::Persistent(const ProxyParams& params, const ContactSet& contacts,
                             const SceneQuery& scene, ParticlePlan& plan) {
+  if (params.algorithm != MatchAlgorithm::kReference) FindGripTurns(contacts, scene);
   // ids on the table this frame; a lifted entry for one of them is contradictory and ignored
   std::unordered_set<ContactId> current;
   for (const Contact& contact : contacts.contacts) {
@@ -313,18 +360,44 @@ void ProxyStage::Seed(const ProxyParams& params, const Contact& contact, const S
 void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
                           const SceneQuery& scene, Track& track, ParticlePlan& plan) {
   const Contour& prev = track.contour;
-  const Contour& cur = contact.blob.contour;
   const int n = static_cast<int>(prev.cols());
-  const int m = static_cast<int>(cur.cols());
   // nothing to match from: the contact starts over as if new
   if (n == 0) {
     Seed(params, contact, scene, plan);
     return;
   }
 
+  // Motion compensation (fast and windowed searches): the previous contour moved by the
+  // contact's rigid motion, and the current one resampled in phase with it, keeping its point
+  // count within the hysteresis. A rigid contact then matches point for point, and the sum of
+  // squared distances sees only what changed shape. The reference search matches the contours as
+  // sensed, as the paper does.
+  const bool compensate = params.algorithm != MatchAlgorithm::kReference;
+  Contour cur = contact.blob.contour;
+  Contour prevMatched;
+  ContourMotion contourMotion;
+  if (compensate && cur.cols() > 0) {
+    contourMotion = EstimateMotion(prev, cur);
+    // a round contact shows no turn of its own: in a grip it turns with the grip, about its
+    // centroid, so its particles keep their places on the face it presses
+    const auto grip = m_gripTurn.find(contact.id);
+    if (!contourMotion.turnObservable && grip != m_gripTurn.end()) {
+      const Vec2 centre = prev.rowwise().mean();
+      const Vec2 movedCentre = contourMotion.motion.Apply(centre);
+      contourMotion.motion.angle = grip->second;
+      contourMotion.motion.pos = movedCentre - Rotate(centre, grip->second);
+    }
+    prevMatched = Transformed(prev, contourMotion.motion);
+    const int sensed = static_cast<int>(cur.cols());
+    const int count = std::abs(sensed - n) <= params.countHysteresis ? n : sensed;
+    cur = ResampleInPhase(cur, prevMatched, count);
+  }
+  const int m = static_cast<int>(cur.cols());
+
   // successors of the previous points, predecessors of the current ones
-  const MatchResult match = m > 0 ? Match(params, prev, cur, &m_stats.windowedFallbacks)
-                                  : MatchResult{std::vector<int>(n, -1), {}, 0};
+  const MatchResult match =
+      m > 0 ? Match(params, compensate ? prevMatched : prev, cur, &m_stats.windowedFallbacks)
+            : MatchResult{std::vector<int>(n, -1), {}, 0};
   const std::vector<int> pred = m > 0 ? Predecessors(match, m) : std::vector<int>{};
 
   // the particle's known base height and position: feedback first, its own record otherwise
@@ -341,7 +414,9 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
     const auto f = m_feedback.find(track.ids[k]);
     return f != m_feedback.end() ? f->second.pos : lastTarget(k);
   };
-  const Pose2 motion = params.subsample && m > 0 ? RigidMotion(prev, cur) : Pose2{};
+  const Pose2 motion = !params.subsample || m == 0 ? Pose2{}
+                       : compensate                ? contourMotion.motion
+                                                   : RigidMotion(prev, cur);
 
   std::vector<ParticleId> ids(m, kNoId);
   std::vector<double> heights(m, 0.0);

@@ -128,6 +128,7 @@ class EmptyScene : public SceneQuery {
     return 0.0;
   }
   Vec2 NearestOutside(const Vec2& p) const override { return p; }
+  ObjectId ObjectAt(const Vec2&) const override { return kNoObject; }
 };
 
 // the whole persistent stage on the two-hand sequence: matching plus the particle lifecycle

@@ -208,6 +208,38 @@ TEST(Matching, WindowedAgreesWithReferenceUnderRealisticMotion) {
   std::printf("windowed: %d of %d points agree, %d fell back\n", agree, total, fallbacks);
 }
 
+TEST(Matching, WindowedAgreesWithReferenceOnCompensatedContours) {
+  // the proxy stage's fast and windowed searches match the previous contour moved by the
+  // estimated rigid motion against the current one resampled in phase with it; on those
+  // compensated contours they keep the same 99% agreement with the exhaustive reference at up
+  // to 3 cm and 15 degrees per frame (issue 16's acceptance)
+  Rng rng(2026);
+  const Contour outlines[] = {HandOutline(), CapsuleOutline(4.0, 0.8), EllipseOutline(2.0, 1.2),
+                              CircleOutline(0.9)};
+  int agree = 0;
+  int fastAgree = 0;
+  int total = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    const Motion mo = RandomMotion(rng, outlines[trial % 4], 3.0, 15.0);
+    const ContourMotion cm = EstimateMotion(mo.prev, mo.cur);
+    const Contour moved = Transformed(mo.prev, cm.motion);
+    const Contour cur = ResampleInPhase(mo.cur, moved, static_cast<int>(mo.cur.cols()));
+    const MatchResult ref = MatchReference(moved, cur, 8);
+    const MatchResult fast = MatchFast(moved, cur, 8);
+    const MatchResult win =
+        MatchWindowed(moved, cur, 8, PredictSuccessors(moved, cur), 12, kFallback);
+    for (size_t k = 0; k < ref.successor.size(); ++k) {
+      agree += ref.successor[k] == win.successor[k];
+      fastAgree += ref.successor[k] == fast.successor[k];
+    }
+    total += static_cast<int>(ref.successor.size());
+  }
+  // the fast search is exact: it agrees everywhere; the windowed one on at least 99% of points
+  EXPECT_EQ(fastAgree, total);
+  EXPECT_GE(agree, 0.99 * total) << agree << " of " << total << " agree";
+  std::printf("compensated windowed: %d of %d points agree\n", agree, total);
+}
+
 TEST(Matching, WindowedAnswersFromItsBandForGentleMotion) {
   // hands moving at everyday speeds (up to 0.6 cm and 3 degrees per 60 Hz frame): the band holds
   // the answer nearly everywhere, so few points need the full search

@@ -20,10 +20,10 @@ TEST(ProxyParams, EveryFieldIsDescribedOnce) {
     EXPECT_TRUE(keys.insert(f.key).second) << f.key;
     EXPECT_FALSE(f.doc.empty()) << f.key;
   }
-  EXPECT_EQ(keys,
-            (std::set<std::string>{"mode", "algorithm", "window", "search_radius", "fallback_score",
-                                   "placement", "penetration_limit", "instant_threshold",
-                                   "instant_spacing", "instant_flow_window", "subsample"}));
+  EXPECT_EQ(keys, (std::set<std::string>{"mode", "algorithm", "window", "search_radius",
+                                         "fallback_score", "placement", "penetration_limit",
+                                         "instant_threshold", "instant_spacing",
+                                         "instant_flow_window", "subsample", "count_hysteresis"}));
 }
 
 TEST(ProxyParams, SetByName) {

@@ -55,6 +55,16 @@ class BoxScene : public SceneQuery {
     return p;
   }
 
+  ObjectId ObjectAt(const Vec2& p) const override {
+    ObjectId best = kNoObject;
+    for (size_t i = 0; i < boxes.size(); ++i) {
+      if (Inside(boxes[i], p) && (best == kNoObject || boxes[i].top > boxes[best].top)) {
+        best = static_cast<ObjectId>(i);
+      }
+    }
+    return best;
+  }
+
   static bool Inside(const Box& b, const Vec2& p) {
     return p.x() > b.lo.x() && p.x() < b.hi.x() && p.y() > b.lo.y() && p.y() < b.hi.y();
   }

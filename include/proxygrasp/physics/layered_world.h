@@ -68,6 +68,7 @@ class LayeredWorld : public SceneQuery {
   double TopHeightAt(const Vec2& p) const override;
   double FootprintDepth(const Vec2& p, double* topHeight) const override;
   Vec2 NearestOutside(const Vec2& p) const override;
+  ObjectId ObjectAt(const Vec2& p) const override;
 
   /// Where every particle is after the last frame, in creation order.
   std::vector<ParticleFeedback> Feedback() const;

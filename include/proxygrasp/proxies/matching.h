@@ -64,6 +64,31 @@ MatchResult MatchWindowed(const Contour& prev, const Contour& cur, int window, i
 /// descent along the current contour from the last point's answer, is the prediction. O(N + M).
 std::vector<int> PredictSuccessors(const Contour& prev, const Contour& cur);
 
+/// A contact's rigid motion from its previous contour to its current one.
+struct ContourMotion {
+  Pose2 motion;  ///< maps a previous point to where it is now (turn about the origin)
+  bool turnObservable = false;  ///< the outline shows its turning (not round)
+  double residual = 0.0;        ///< RMS distance of the moved previous points to the current
+                                ///< contour, cm
+};
+
+/// Estimates the rigid motion that carries prev onto cur: seeded by the centroid shift and, for an
+/// elongated outline, the turn of its principal axis, then refined by a few iterations of
+/// point-to-line alignment (each moved previous point against the nearest segment of cur, points
+/// far off the contour weighted down, so a local shape change does not pull the estimate). The
+/// turn is damped where the outline cannot show it: a round contour translates only. O(N + M) per
+/// iteration. Both contours must be wound the same way (sensing makes them counter-clockwise).
+ContourMotion EstimateMotion(const Contour& prev, const Contour& cur);
+
+/// prev moved by motion (every point through motion.Apply).
+Contour Transformed(const Contour& prev, const Pose2& motion);
+
+/// cur resampled to `count` points evenly spaced by arc length, in phase with `reference` (prev
+/// moved onto cur): the common phase is the median, over the reference points, of the offset
+/// between where reference point k projects onto cur and where output point k would lie, so that
+/// under rigid motion output point k lies where reference point k projects. O(N + M).
+Contour ResampleInPhase(const Contour& cur, const Contour& reference, int count);
+
 /// Predecessor of every current point: the previous point that chose it as successor with the
 /// lowest score (ties to the lowest k), or -1 when none chose it.
 std::vector<int> Predecessors(const MatchResult& match, int currentCount);

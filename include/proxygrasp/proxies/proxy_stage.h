@@ -69,10 +69,13 @@ class ProxyStage {
   void Continue(const ProxyParams& params, const Contact& contact, const SceneQuery& scene,
                 Track& track, ParticlePlan& plan);
   void DeleteTrack(ContactId id, const Track& track, ParticlePlan& plan);
+  void FindGripTurns(const ContactSet& contacts, const SceneQuery& scene);
 
   ProxyParams m_params;
   std::map<ContactId, Track> m_tracks;  // ordered: plans come out in the same order every run
   std::unordered_map<ParticleId, ParticleFeedback> m_feedback;  // this frame's feedback by id
+  std::unordered_map<ContactId, double>
+      m_gripTurn;  // this frame's turn of each contact's grip, rad
   InstantProxies m_instant;
   IdCounter m_ids;
   ProxyMode m_lastMode = ProxyMode::kPersistent;

@@ -16,7 +16,9 @@ namespace pg {
 enum class ProxyMode { kPersistent, kInstant };
 inline constexpr const char* kProxyModeNames[] = {"persistent", "instant"};
 
-/// How successors are searched: exhaustive reference, exact running sums, or a predicted window.
+/// How successors are searched: the paper's exhaustive search on the contours as sensed
+/// (reference), or on the previous contour moved by the contact's rigid motion and the current one
+/// resampled in phase with it, by exact running sums (fast) or in a predicted window (windowed).
 enum class MatchAlgorithm { kReference, kFast, kWindowed };
 inline constexpr const char* kMatchAlgorithmNames[] = {"reference", "fast", "windowed"};
 
@@ -30,6 +32,8 @@ struct ProxyParams {
   MatchAlgorithm algorithm = MatchAlgorithm::kFast;
   int window = 8;              ///< n: the window sum runs over i = -n/2..n/2 around each match
                                ///< (integer halves: an odd n sums as n - 1 does), points
+  int countHysteresis = 1;     ///< fast and windowed: a continuing contact keeps its point
+                               ///< count while sensing's differs by at most this, points
   int searchRadius = 12;       ///< w, half-width of the windowed search, points
   bool subsample = true;       ///< refine reused targets between contour samples (parabola
                                ///< through the window scores of the successor's neighbours)
@@ -56,6 +60,8 @@ class SceneQuery {
   virtual double FootprintDepth(const Vec2& p, double* topHeight) const = 0;
   /// The nearest point to p that lies outside every object's footprint (p itself when outside).
   virtual Vec2 NearestOutside(const Vec2& p) const = 0;
+  /// The highest object whose footprint holds p, or kNoObject.
+  virtual ObjectId ObjectAt(const Vec2& p) const = 0;
 };
 
 /// Where a particle really is after the last physics step, fed back to the proxies stage.
@@ -73,7 +79,10 @@ inline constexpr const char* kParticleActionNames[] = {"reused", "created", "del
 struct PlannedParticle {
   ParticleId id = kNoId;
   ContactId contact = kNoId;
-  int index = -1;  ///< contour point it follows this frame (-1 when deleted)
+  int index = -1;  ///< contour point it follows this frame (-1 when deleted): of the sensed
+                   ///< contour, or with the fast and windowed searches of a continuing contact,
+                   ///< of that contour resampled in phase with the last frame's (its count
+                   ///< within count_hysteresis of the sensed count)
   ParticleAction action = ParticleAction::kReused;
   Vec2 target = Vec2::Zero();  ///< where kinematic control drives it by the frame's end, cm
   Vec2 start = Vec2::Zero();   ///< created: where it is placed; otherwise unused, cm
