@@ -7,6 +7,9 @@
 #include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
+#include "proxygrasp/sensing/preview.h"
+
+#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -93,7 +96,17 @@ struct SenseOptions {
   std::string calibration;
   int64_t frames = 0;
   std::vector<std::string> sets;
+  std::string preview;  // PNG of the last frame's filter stages and contacts
 };
+
+// the sensing view of the last frame: each filter stage side by side, contacts and ids drawn
+bool WritePreview(const Simulation& sim, const std::string& path) {
+  std::vector<PreviewContact> shown;
+  for (const Contact& c : sim.contacts().contacts)
+    if (c.state != ContactState::kLifted) shown.push_back({&c.blob, static_cast<int>(c.id)});
+  const cv::Mat view = SensingPreview(sim.sensor(), shown);
+  return !view.empty() && cv::imwrite(path, view);
+}
 
 int RunSense(const SenseOptions& o) {
   const char* const me = "proxygrasp sense: ";
@@ -186,6 +199,10 @@ int RunSense(const SenseOptions& o) {
     ++index;
   }
   std::cout.flush();
+  if (!o.preview.empty() && (!started || !WritePreview(sim, o.preview))) {
+    std::cerr << me << "cannot write the sensing preview " << o.preview << "\n";
+    return kExitFailed;
+  }
   if (badFrames > 0) {
     std::cerr << me << badFrames << " bad frame(s) skipped\n";
     return kExitFailed;
@@ -211,6 +228,9 @@ void AddSenseCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--set", options.sets,
                   "set a parameter, e.g. --set sensing.threshold=50 (repeatable)");
+  cmd->add_option("--preview", options.preview,
+                  "write the last frame's filter stages side by side, with the contacts' outlines "
+                  "and ids on the camera image, to this PNG (with --frames N: frame N-1)");
   cmd->callback([&exitCode] { exitCode = RunSense(options); });
 }
 

@@ -24,15 +24,35 @@ void Describe(SensingParams& p, ParamVisitor& v) {
   v.Text("calibration", p.calibration,
          {"calibration YAML written by `proxygrasp calibrate` (\"\" maps the image linearly)",
           Apply::kRestart});
-  VisitEnum(v, "threshold_mode", p.thresholdMode, kThresholdModeNames,
-            "fixed threshold, or automatic (Otsu)");
-  v.Real("threshold", p.threshold, 1, 254, "grey", "fixed threshold on the normalized image");
-  v.Real("auto_floor", p.autoFloor, 1, 254, "grey",
-         "lowest threshold the automatic (Otsu) mode may pick, so an empty table stays empty");
   v.Integer("background_frames", p.backgroundFrames, 0, 600, "frames",
             {"clear-table frames averaged into the background at start (0 = estimate it from the "
              "first frame); unused when the calibration file holds a background",
              Apply::kRestart});
+  v.Real("background_warmup", p.backgroundWarmup, 0, 60, "s",
+         "how long a background estimated from the first frame follows the frames everywhere, "
+         "so that what is static from the start (an illuminator's hot spot) is background (a "
+         "captured or calibrated background needs none); 0 = no warm-up");
+  v.Real("background_learning", p.backgroundLearning, 0, 3600, "s",
+         "time constant with which the background follows the frames where nothing touches "
+         "(slow light changes, things left on the table); 0 keeps it fixed");
+  v.Real("smooth", p.smooth, 0, 2, "cm",
+         "deviation of the Gaussian blur that removes sensor noise after the background is "
+         "subtracted (0 = none)");
+  v.Real("highpass_width", p.highpassWidth, 0, 50, "cm",
+         "width of the box blur subtracted from the image (high-pass): glows wider than this "
+         "(palms and arms above the surface, uneven lighting) fade, fingertips stay (0 = none)");
+  v.Real("highpass_cap", p.highpassCap, 0, 255, "grey",
+         "most brightness the high-pass subtracts: a flat hand pressed on the surface, brighter "
+         "than a glow, keeps its inside");
+  v.Real("gain", p.gain, 0.1, 32, "1",
+         "amplification of the high-passed image before the "
+         "threshold");
+  VisitEnum(v, "threshold_mode", p.thresholdMode, kThresholdModeNames,
+            "fixed threshold, or automatic (Otsu)");
+  v.Real("threshold", p.threshold, 1, 254, "grey",
+         "fixed threshold on the filtered (gained) image");
+  v.Real("auto_floor", p.autoFloor, 1, 254, "grey",
+         "lowest threshold the automatic (Otsu) mode may pick, so an empty table stays empty");
   v.Integer("morphology", p.morphology, 0, 8, "px",
             "radius of the opening that removes specks and one-pixel bridges (0 = none)");
   v.Real("min_area", p.minArea, 0, 1000, "cm^2", "smallest contact kept");

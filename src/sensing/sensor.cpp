@@ -43,6 +43,10 @@ MaybeError CheckSensingParams(const SensingParams& params) {
   return CheckDescribed("sensing", params);
 }
 
+// how much brighter than the median a block of the first frame must be to count as covered by a
+// hand when the background is estimated, 8-bit grey
+constexpr double kCoveredMargin = 30.0;
+
 // the structuring element of the clean-up opening (empty for none)
 cv::Mat OpeningKernel(int radius) {
   if (radius <= 0) return cv::Mat();
@@ -142,6 +146,9 @@ MaybeError Sensor::Configure(const SensingParams& params, const TableParams& tab
   m_model = model.value();
   m_linear = !m_model.HasDistortion();
   m_background = calibration.background.empty() ? cv::Mat() : calibration.background.clone();
+  m_learned.release();
+  m_warmup = false;
+  m_haveTime = false;
   m_captureSum.release();
   m_captured = 0;
   m_tableMapX.release();
@@ -180,6 +187,8 @@ MaybeError Sensor::SetBackground(const cv::Mat& background) {
     return MakeError({"background"},
                      "must be an 8-bit grey (CV_8UC1) image of " + SizeText(expected));
   m_background = background.clone();
+  m_learned.release();
+  m_warmup = false;
   m_captureSum.release();
   m_captured = 0;
   return std::nullopt;
@@ -194,9 +203,10 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   if (frame.empty())
     return MakeError(where,
                      "empty frame (expected " + SizeText(expected) + " 8-bit grey, CV_8UC1)");
-  if (frame.type() != CV_8UC1)
-    return MakeError(where, "frame type is " + cv::typeToString(frame.type()) +
-                                ", expected CV_8UC1 (8-bit grey)");
+  const int type = frame.type();
+  if (type != CV_8UC1 && type != CV_8UC3 && type != CV_8UC4)
+    return MakeError(where, "frame type is " + cv::typeToString(type) +
+                                ", expected 8-bit grey (CV_8UC1) or colour (CV_8UC3, CV_8UC4)");
   if (frame.size() != expected)
     return MakeError(where,
                      "frame is " + SizeText(frame.size()) + ", expected " + SizeText(expected));
@@ -205,23 +215,32 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   out.index = index;
   out.time = time;
 
+  // colour cameras: grey is all the chain looks at
+  if (type == CV_8UC1)
+    m_grey = frame;
+  else
+    cv::cvtColor(frame, m_grey, type == CV_8UC3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
+
   // background: loaded or set, else averaged over the first frames, else estimated from this one
   if (m_background.empty()) {
     if (m_params.backgroundFrames > 0) {
       if (m_captureSum.empty()) m_captureSum = cv::Mat::zeros(expected, CV_32F);
-      cv::accumulate(frame, m_captureSum);
+      cv::accumulate(m_grey, m_captureSum);
       if (++m_captured >= m_params.backgroundFrames) {
         m_captureSum.convertTo(m_background, CV_8UC1, 1.0 / m_captured);
         m_captureSum.release();
       }
       return out;
     }
-    m_background = EstimateBackground(frame, 0.5 * m_params.threshold);
+    // an estimate that the warm-up then refines
+    m_background = EstimateBackground(m_grey, kCoveredMargin);
+    m_warmup = true;
   }
 
-  // level normalization, threshold, and an opening that removes specks and one-pixel bridges (no
-  // closing: holes are ignored anyway, and closing would fill finger crotches and join fingers)
-  cv::subtract(frame, m_background, m_normalized);
+  Filter();
+
+  // threshold, and an opening that removes specks and one-pixel bridges (no closing: holes are
+  // ignored anyway, and closing would fill finger crotches and join fingers)
   double level = m_params.threshold;
   if (m_params.thresholdMode == ThresholdMode::kAuto) {
     cv::Mat scratch;
@@ -236,6 +255,7 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   }
 
   ExtractBlobs(out.blobs);
+  LearnBackground(time);
 
   if (wantTableImage) {
     if (m_tableMapX.empty()) BuildTableMaps();
@@ -245,6 +265,90 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
               cv::BORDER_CONSTANT, cv::Scalar(0));
   }
   return out;
+}
+
+double Sensor::PixelsPerCm() const {
+  const Vec2 centre(0.5 * m_model.imageSize.width, 0.5 * m_model.imageSize.height);
+  return 1.0 / m_model.CmPerPixel(centre);
+}
+
+void Sensor::Filter() {
+  const double pxPerCm = PixelsPerCm();
+  // background subtracted: what is brighter than the clear table (darker is clipped to 0)
+  cv::subtract(m_grey, m_background, m_subtracted);
+
+  // smoothing: a small Gaussian against sensor noise
+  const double sigma = m_params.smooth * pxPerCm;
+  if (sigma >= 0.3)
+    cv::GaussianBlur(m_subtracted, m_smoothed, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
+  else
+    m_subtracted.copyTo(m_smoothed);
+
+  // high-pass: minus a wide box blur of itself, at most highpass_cap, so that wide glows (palms and
+  // arms above the surface, uneven light) fade while small bright contacts stay
+  const int width = static_cast<int>(std::lround(m_params.highpassWidth * pxPerCm)) | 1;
+  if (m_params.highpassWidth > 0.0 && width >= 3 && m_params.highpassCap > 0.0) {
+    cv::blur(m_smoothed, m_wide, cv::Size(width, width), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+    if (m_params.highpassCap < 255.0) cv::min(m_wide, m_params.highpassCap, m_wide);
+    cv::subtract(m_smoothed, m_wide, m_highpass);
+  } else {
+    m_smoothed.copyTo(m_highpass);
+  }
+
+  // gain
+  if (m_params.gain != 1.0)
+    m_highpass.convertTo(m_normalized, CV_8UC1, m_params.gain);
+  else
+    m_highpass.copyTo(m_normalized);
+}
+
+void Sensor::LearnBackground(double time) {
+  const double dt = m_haveTime ? time - m_lastTime : 0.0;
+  m_lastTime = time;
+  m_haveTime = true;
+  if (!(dt > 0.0)) return;
+  if (m_learned.empty()) {
+    m_background.convertTo(m_learned, CV_32F);
+    m_learnedTime = 0.0;
+  }
+  m_learnedTime += dt;
+  const double warmup = m_params.backgroundWarmup;
+  if (m_warmup && m_learnedTime <= warmup) {
+    // warm-up: the background converges on the frames everywhere (what is static from the start,
+    // like an illuminator's hot spot, is background; a touch there heals once lifted)
+    const double alpha = 1.0 - std::exp(-dt / (warmup / 3.0));
+    cv::accumulateWeighted(m_grey, m_learned, alpha);
+  } else {
+    if (m_params.backgroundLearning <= 0.0) return;
+    // where nothing touches (the contacts grown by a margin), the background moves towards the
+    // frame with time constant background_learning
+    const double alpha = 1.0 - std::exp(-dt / m_params.backgroundLearning);
+    constexpr int kMargin = 3;  // px around contacts the learning leaves alone
+    cv::dilate(m_binary, m_still, cv::Mat(), cv::Point(-1, -1), kMargin);
+    cv::bitwise_not(m_still, m_still);
+    cv::accumulateWeighted(m_grey, m_learned, alpha, m_still);
+  }
+  m_learned.convertTo(m_background, CV_8UC1);
+}
+
+const cv::Mat& Sensor::StageImage(SensingStage stage) const {
+  switch (stage) {
+    case SensingStage::kCamera:
+      return m_grey;
+    case SensingStage::kBackground:
+      return m_background;
+    case SensingStage::kSubtracted:
+      return m_subtracted;
+    case SensingStage::kSmoothed:
+      return m_smoothed;
+    case SensingStage::kHighpass:
+      return m_highpass;
+    case SensingStage::kGained:
+      return m_normalized;
+    case SensingStage::kBinary:
+      return m_binary;
+  }
+  return m_grey;
 }
 
 void Sensor::ExtractBlobs(std::vector<Blob>& blobs) {
@@ -299,7 +403,9 @@ void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2
                 static_cast<double>(pixels[i].x) * pixels[j].y;
   const double sign = shoelace >= 0.0 ? 1.0 : -1.0;
   const int reach = n >= 5 ? 2 : 1;
-  const float minContrast = static_cast<float>(0.5 * m_lastThreshold);
+  // edges are searched on the background-subtracted image, whose levels the smoothing and the
+  // high-pass have not moved; the threshold is in gained levels
+  const float minContrast = static_cast<float>(0.5 * m_lastThreshold / m_params.gain);
 
   for (int i = 0; i < n; ++i) {
     const cv::Point& a = pixels[WrapIndex(i - reach, n)];
@@ -310,7 +416,7 @@ void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2
     normal /= len;
     const Vec2 p = out[i];
     auto g = [&](double t) {
-      return Sample(m_normalized, p.x() + t * normal.x(), p.y() + t * normal.y());
+      return Sample(m_subtracted, p.x() + t * normal.x(), p.y() + t * normal.y());
     };
 
     // the edge is where the level crosses halfway between inside and outside

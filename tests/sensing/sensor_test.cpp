@@ -5,9 +5,13 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
+
+#include "sensing/real_footage.h"
 
 namespace pg {
 namespace {
@@ -388,10 +392,11 @@ TEST(Sensor, BadFramesGiveErrorsNamingTheFrame) {
   ASSERT_FALSE(small);
   EXPECT_EQ(small.error().Format(), "frame 8: frame is 320x240, expected 640x480");
 
-  Result<ContourFrame> colour = rig.sensor.Step(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0)), 9, 0.0);
-  ASSERT_FALSE(colour);
-  EXPECT_THAT(colour.error().Format(),
-              HasSubstr("frame 9: frame type is CV_8UC3, expected CV_8UC1"));
+  Result<ContourFrame> deep = rig.sensor.Step(cv::Mat(480, 640, CV_16UC1, cv::Scalar(0)), 9, 0.0);
+  ASSERT_FALSE(deep);
+  EXPECT_THAT(
+      deep.error().Format(),
+      HasSubstr("frame 9: frame type is CV_16UC1, expected 8-bit grey (CV_8UC1) or colour"));
 
   Result<ContourFrame> floats = rig.sensor.Step(cv::Mat(480, 640, CV_32F, cv::Scalar(0)), 10, 0.0);
   ASSERT_FALSE(floats);
@@ -484,6 +489,238 @@ TEST(EstimateBackground, MatchesTheClearTableUnderContacts) {
   }
   EXPECT_LT(worstFar, 8.0);
   EXPECT_LT(worstDarker, 12.0);
+}
+
+// The real-table settings of docs/sensing.md: the defaults keep the synthetic levels' outcomes
+// (high-pass and learning off, threshold 60); real footage takes these, one set for every clip.
+SensingParams RealTableParams() {
+  SensingParams p;
+  p.backgroundLearning = 10.0;  // s
+  p.highpassWidth = 4.0;        // cm
+  p.highpassCap = 40.0;         // grey
+  p.threshold = 30.0;           // grey
+  return p;
+}
+
+TEST(Sensor, ColourFramesAreConvertedToGrey) {
+  Rig rig;
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const ContactShape shapes[] = {Circle({30.0, 20.0}, 0.8)};
+  const cv::Mat grey = rig.camera.Render(shapes);
+  cv::Mat bgr, bgra;
+  cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+  cv::cvtColor(grey, bgra, cv::COLOR_GRAY2BGRA);
+  for (const cv::Mat& frame : {bgr, bgra}) {
+    Result<ContourFrame> r = rig.sensor.Step(frame, 0, 0.0);
+    ASSERT_TRUE(r) << r.error().Format();
+    ASSERT_EQ(r.value().blobs.size(), 1u);
+    // grey in, grey out: the same contact as from the grey frame, well inside the 1 px accuracy
+    EXPECT_NEAR(r.value().blobs[0].centroid.x(), 30.0, 0.1);
+    EXPECT_EQ(cv::norm(rig.sensor.StageImage(SensingStage::kCamera), grey, cv::NORM_INF), 0.0);
+  }
+}
+
+TEST(Sensor, EveryStageImageIsKept) {
+  Rig rig;
+  const ContactShape shapes[] = {Circle({30.0, 20.0}, 0.8)};
+  ASSERT_TRUE(rig.sensor.Step(rig.camera.Render(shapes), 0, 0.0));
+  for (int k = 0; k < kSensingStageCount; ++k) {
+    const cv::Mat& m = rig.sensor.StageImage(static_cast<SensingStage>(k));
+    EXPECT_EQ(m.size(), cv::Size(640, 480)) << kSensingStageNames[k];
+    EXPECT_EQ(m.type(), CV_8UC1) << kSensingStageNames[k];
+  }
+  // the binary image holds the fingertip (pixel of its centre) and nothing far from it
+  const Vec2 centre = rig.camera.model().TableToCamera(Vec2(30.0, 20.0));
+  const cv::Mat& binary = rig.sensor.StageImage(SensingStage::kBinary);
+  EXPECT_EQ(binary.at<uint8_t>(static_cast<int>(centre.y()), static_cast<int>(centre.x())), 255);
+  EXPECT_EQ(binary.at<uint8_t>(10, 10), 0);
+}
+
+// a clear table frame with a wide, faint glow (a palm or arm hovering above an FTIR surface):
+// a Gaussian of `sigmaCm` and `level` grey above the synthetic background
+cv::Mat WithGlow(const Rig& rig, cv::Mat frame, Vec2 at, double sigmaCm, double level) {
+  for (int v = 0; v < frame.rows; ++v) {
+    for (int u = 0; u < frame.cols; ++u) {
+      const Vec2 t = rig.camera.model().CameraToTable(Vec2(u, v));
+      const double g = level * std::exp(-(t - at).squaredNorm() / (2.0 * sigmaCm * sigmaCm));
+      uint8_t& p = frame.at<uint8_t>(v, u);
+      p = cv::saturate_cast<uint8_t>(p + g);
+    }
+  }
+  return frame;
+}
+
+TEST(Sensor, HighpassFadesAWideGlowAndKeepsAFingertip) {
+  // a 4 cm (deviation) glow 45 grey bright, with a fingertip on it: the glow alone is over the
+  // threshold of 30; the high-pass (4 cm wide, removing up to 40 grey) leaves the glow at most
+  // 45 - 40 = 5 grey where its own blur is at its peak, so only the fingertip is a contact
+  SensingParams sp = RealTableParams();
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const ContactShape shapes[] = {Circle({30.0, 22.0}, 0.8)};
+  const cv::Mat frame = WithGlow(rig, rig.camera.Render(shapes), Vec2(30.0, 18.0), 4.0, 45.0);
+  Result<ContourFrame> r = rig.sensor.Step(frame, 0, 0.0);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 1u);
+  EXPECT_NEAR(r.value().blobs[0].centroid.x(), 30.0, 0.1);
+  EXPECT_NEAR(r.value().blobs[0].centroid.y(), 22.0, 0.1);
+
+  // without the high-pass the glow is a contact (with the fingertip in it)
+  sp.highpassWidth = 0.0;
+  ASSERT_FALSE(rig.sensor.SetParams(sp));
+  r = rig.sensor.Step(frame, 1, 0.0);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 1u);
+  EXPECT_GT(r.value().blobs[0].area, 10.0);  // cm^2: far more than a 2 cm^2 fingertip
+}
+
+TEST(Sensor, BackgroundFollowsTheFramesWhereNothingTouches) {
+  SensingParams sp;
+  sp.backgroundLearning = 1.0;  // s
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const cv::Mat before = rig.sensor.Background().clone();
+  // the room light goes up by 20 grey while a finger rests at (30, 20)
+  const ContactShape shapes[] = {Circle({30.0, 20.0}, 0.8)};
+  cv::Mat frame = rig.camera.Render(shapes);
+  frame += cv::Scalar(20);
+  // 5 s at 30 frames/s = 5 time constants: 1 - e^-5 = 99.3% of the change is learned
+  for (int i = 0; i <= 150; ++i) {
+    Result<ContourFrame> r = rig.sensor.Step(frame, i, i / 30.0);
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r.value().blobs.size(), 1u) << "frame " << i;
+  }
+  const cv::Mat& after = rig.sensor.Background();
+  // far from the finger: within 1 grey (0.7% of 20 plus rounding) of the brighter frame
+  EXPECT_NEAR(after.at<uint8_t>(100, 100), frame.at<uint8_t>(100, 100), 1.0);
+  // under the finger: unchanged
+  const Vec2 c = rig.camera.model().TableToCamera(Vec2(30.0, 20.0));
+  const cv::Point at(static_cast<int>(c.x()), static_cast<int>(c.y()));
+  EXPECT_EQ(after.at<uint8_t>(at), before.at<uint8_t>(at));
+
+  // frames at the same time as the last one change nothing
+  const cv::Mat kept = after.clone();
+  ASSERT_TRUE(rig.sensor.Step(rig.camera.Render(shapes), 151, 150 / 30.0));
+  EXPECT_EQ(cv::norm(rig.sensor.Background(), kept, cv::NORM_INF), 0.0);
+}
+
+TEST(Sensor, WarmupMakesAStaticHotSpotBackground) {
+  // no background given: estimated from the first frame, which shows an illuminator's hot spot
+  // (a 3 cm deviation glow 150 grey bright, wider than the 32 px blocks of the estimate); after
+  // the warm-up (0.3 s) it is background, and a fingertip that comes later is the only contact
+  SensingParams sp = RealTableParams();
+  Rig rig(HardCamera(), sp);
+  const cv::Mat empty = WithGlow(rig, rig.camera.Render({}), Vec2(15.0, 30.0), 3.0, 150.0);
+  for (int i = 0; i < 30; ++i) ASSERT_TRUE(rig.sensor.Step(empty, i, i / 30.0));
+  Result<ContourFrame> r = rig.sensor.Step(empty, 30, 1.0);
+  ASSERT_TRUE(r);
+  EXPECT_TRUE(r.value().blobs.empty());
+  const ContactShape shapes[] = {Circle({40.0, 20.0}, 0.8)};
+  const cv::Mat touched = WithGlow(rig, rig.camera.Render(shapes), Vec2(15.0, 30.0), 3.0, 150.0);
+  r = rig.sensor.Step(touched, 31, 31 / 30.0);
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r.value().blobs.size(), 1u);
+  EXPECT_NEAR(r.value().blobs[0].centroid.x(), 40.0, 0.1);
+}
+
+// ---- real table footage (../shared/real) ----
+
+// the labelled clips, or a skip message
+struct RealData {
+  std::string dir;
+  std::vector<real::LabelledClip> clips;
+};
+RealData LoadReal() {
+  RealData d;
+  d.dir = real::RealDataDir();
+  if (!d.dir.empty()) d.clips = real::ReadLabels(PROXYGRASP_TESTDATA_DIR "/real_labels.txt");
+  return d;
+}
+constexpr const char* kNoRealData =
+    "../shared/real is absent (a clone of the project alone): no real footage to test on; set "
+    "PROXYGRASP_REAL_DATA to its folder";
+
+// scores the labelled frames of the clips whose path contains one of `names`
+real::Score ScoreClips(const RealData& d, const std::vector<std::string>& names) {
+  real::Score total;
+  for (const real::LabelledClip& clip : d.clips) {
+    bool wanted = false;
+    for (const std::string& n : names) wanted = wanted || clip.path.find(n) != std::string::npos;
+    if (!wanted) continue;
+    real::Score s;
+    size_t next = 0;
+    const bool read =
+        real::RunClip(d.dir, clip, RealTableParams(), clip.LastFrame(),
+                      [&](int i, const ContourFrame& f, const Sensor& sensor) {
+                        while (next < clip.frames.size() && clip.frames[next].index < i) ++next;
+                        if (next < clip.frames.size() && clip.frames[next].index == i)
+                          real::ScoreFrame(clip, clip.frames[next], f, sensor, s);
+                      });
+    EXPECT_TRUE(read) << "cannot read " << d.dir << "/" << clip.path;
+    std::printf("%-50s %2d frames: %3d of %3d fingertips found, %2d of %3d contacts unmatched\n",
+                clip.path.c_str(), s.frames, s.found, s.tips, s.unmatched, s.contacts);
+    total.frames += s.frames;
+    total.tips += s.tips;
+    total.found += s.found;
+    total.contacts += s.contacts;
+    total.unmatched += s.unmatched;
+    total.misses += s.misses;
+  }
+  return total;
+}
+
+// the clips where the defaults meet the fingertip acceptance (t2.avi does not: see below)
+const std::vector<std::string> kFtirAndBrightDi = {"hard-5point", "seth_tests", "realhands"};
+
+TEST(RealFootage, RealTableSettingsFindAtLeast95PercentOfTheLabelledFingertips) {
+  const RealData d = LoadReal();
+  if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
+  const real::Score s = ScoreClips(d, kFtirAndBrightDi);
+  ASSERT_GT(s.tips, 100);
+  // issue 14 acceptance: a contact's contour holds (within the 3 px label precision) the label
+  EXPECT_GE(s.found, 0.95 * s.tips) << s.misses;
+}
+
+TEST(RealFootage, RealTableSettingsFindNoContactAtTheHotSpotsOfT2AfterTheFirstSecond) {
+  const RealData d = LoadReal();
+  if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
+  for (const real::LabelledClip& clip : d.clips) {
+    if (clip.hotspots.empty()) continue;
+    int hits = 0, frames = 0;
+    // a contact "at" a hot spot: its centroid within half the spot's radius of the centre
+    ASSERT_TRUE(real::RunClip(d.dir, clip, RealTableParams(), 1 << 30,
+                              [&](int, const ContourFrame& f, const Sensor& sensor) {
+                                ++frames;
+                                if (f.time <= 1.0) return;
+                                for (const Blob& b : f.blobs) {
+                                  const Vec2 c = real::CentroidPixel(b, sensor);
+                                  for (const real::Spot& h : clip.hotspots)
+                                    if (std::hypot(c.x() - h.x, c.y() - h.y) < 0.5 * h.r) ++hits;
+                                }
+                              }));
+    EXPECT_GT(frames, 2000) << clip.path;
+    EXPECT_EQ(hits, 0) << clip.path;
+  }
+}
+
+// Not met yet (issue 14 stays open on it): at most 1 contact per 20 labelled frames that holds
+// no fingertip label and lies in no "maybe" circle. The real-table settings give 3 in 35 frames
+// (1.7 per 20), all on seth_tests.avi (a knuckle beside a fingertip, the glowing heel of a palm).
+TEST(RealFootage, DISABLED_RealTableSettingsFindAtMostOneUnlabelledContactPer20Frames) {
+  const RealData d = LoadReal();
+  if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
+  const real::Score s = ScoreClips(d, kFtirAndBrightDi);
+  EXPECT_LE(s.unmatched * 20, s.frames) << s.misses;
+}
+
+// Not met yet (issue 14 stays open on it): t2.avi's hands are a few grey levels above the table;
+// gain 1 and threshold 30 find none of them. Gain 12 with threshold 40 finds 58
+// of 60, but then gives 2 to 5 false contacts per frame on the other clips.
+TEST(RealFootage, DISABLED_RealTableSettingsFindTheLowContrastHandsOfT2) {
+  const RealData d = LoadReal();
+  if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
+  const real::Score s = ScoreClips(d, {"t2.avi"});
+  EXPECT_GE(s.found, 0.95 * s.tips) << s.misses;
 }
 
 }  // namespace

@@ -102,6 +102,8 @@ class Simulation {
   const LayeredWorld& world() const { return m_world; }
   LayeredWorld& world() { return m_world; }
   const SyntheticCamera& camera() const { return *m_camera; }
+  /// The sensing stage, with the images of its filter chain for the last frame.
+  const Sensor& sensor() const { return m_sensor; }
 
   /// The last frame's camera image, contour frame, contacts, plan and stats.
   const cv::Mat& cameraImage() const { return m_image; }

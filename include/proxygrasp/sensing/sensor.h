@@ -1,5 +1,6 @@
-// The sensing stage: camera frame -> level normalization -> threshold -> clean-up -> connected
-// components -> exact outer contours (sub-pixel) -> table cm -> even arc-length resampling.
+// The sensing stage: camera frame -> grey -> learned background subtracted -> smoothing ->
+// high-pass -> gain -> threshold -> clean-up -> connected components -> exact outer contours
+// (sub-pixel) -> table cm -> even arc-length resampling. docs/sensing.md shows each stage.
 #pragma once
 
 #include "proxygrasp/core/error.h"
@@ -14,6 +15,21 @@
 #include <vector>
 
 namespace pg {
+
+/// The images of the filter chain, in order, each kept for viewing after Sensor::Step.
+enum class SensingStage {
+  kCamera,      ///< the frame as grey (CV_8UC1)
+  kBackground,  ///< the learned background (CV_8UC1)
+  kSubtracted,  ///< frame minus background, negative clipped to 0 (CV_8UC1)
+  kSmoothed,    ///< after the smoothing blur (CV_8UC1)
+  kHighpass,    ///< after the high-pass (CV_8UC1)
+  kGained,      ///< after the gain: what is thresholded (CV_8UC1)
+  kBinary,      ///< after the threshold and the opening, 0/255 (CV_8UC1)
+};
+/// Names of SensingStage values, in enum order.
+inline constexpr const char* kSensingStageNames[] = {
+    "camera", "background", "subtracted", "smoothed", "highpass", "gained", "binary"};
+inline constexpr int kSensingStageCount = 7;
 
 /// Turns camera frames into contour frames. Holds the calibration, the background and scratch
 /// images, so Step allocates little per frame.
@@ -36,9 +52,11 @@ class Sensor {
   /// the background is captured).
   std::vector<std::string> FixedKeysChanged(const SensingParams& params) const;
 
-  /// One frame: processes a CV_8UC1 frame of the configured size. A wrong size or type, or an empty
-  /// frame, is an Error naming the frame index and what was expected. While the background is being
-  /// captured (SensingParams::backgroundFrames) the frame has no blobs.
+  /// One frame: processes an 8-bit frame of the configured size, grey (CV_8UC1) or colour (BGR or
+  /// BGRA, converted to grey). A wrong size or type, or an empty frame, is an Error naming the
+  /// frame index and what was expected. While the background is being captured
+  /// (SensingParams::backgroundFrames) the frame has no blobs. `time` (s) paces the background
+  /// learning: frames at the same time as the previous one do not change the background.
   Result<ContourFrame> Step(const cv::Mat& frame, int64_t index, double time,
                             bool wantTableImage = false);
 
@@ -48,6 +66,10 @@ class Sensor {
   bool HasBackground() const { return !m_background.empty(); }
   /// The background in use (empty before the first frame when none was set), CV_8UC1.
   const cv::Mat& Background() const { return m_background; }
+
+  /// The image of one stage of the last frame (empty before the first frame; the background is
+  /// the one learned so far, ready for the next frame).
+  const cv::Mat& StageImage(SensingStage stage) const;
 
   /// The threshold used on the last frame, 8-bit grey above background.
   double LastThreshold() const { return m_lastThreshold; }
@@ -64,6 +86,9 @@ class Sensor {
   void ExtractBlobs(std::vector<Blob>& blobs);
   void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const;
   void BuildTableMaps();
+  void Filter();
+  void LearnBackground(double time);
+  double PixelsPerCm() const;
 
   SensingParams m_params;
   TableParams m_table;
@@ -73,13 +98,24 @@ class Sensor {
   bool m_linear = true;  // camera -> table is affine (no distortion): map points without Newton
 
   cv::Mat m_background;  // CV_8UC1
+  cv::Mat m_learned;     // CV_32F, the background being learned
+  double m_lastTime = 0.0;
+  double m_learnedTime = 0.0;  // s of frames learned since the background was seeded
+  bool m_warmup = false;       // the background is an estimate: warm it up
+  bool m_haveTime = false;
   cv::Mat m_captureSum;  // CV_32F, while averaging the first frames
   int m_captured = 0;    // frames averaged so far
   double m_lastThreshold = 0.0;
 
-  // scratch, reused every frame
-  cv::Mat m_normalized;  // CV_8UC1 frame - background
+  // the stage images, reused every frame
+  cv::Mat m_grey;        // CV_8UC1
+  cv::Mat m_subtracted;  // CV_8UC1 frame - background
+  cv::Mat m_smoothed;    // CV_8UC1
+  cv::Mat m_highpass;    // CV_8UC1
+  cv::Mat m_normalized;  // CV_8UC1 after the gain: what is thresholded
   cv::Mat m_binary;      // CV_8UC1 0/255
+  cv::Mat m_wide;        // CV_8UC1 scratch: the wide blur of the high-pass
+  cv::Mat m_still;       // CV_8UC1 scratch: where nothing touches
   cv::Mat m_kernel;
   std::vector<std::vector<cv::Point>> m_contours;
   std::vector<cv::Vec4i> m_hierarchy;

@@ -69,11 +69,17 @@ inline constexpr const char* kThresholdModeNames[] = {"fixed", "auto"};
 
 /// Parameters of preprocessing and contour extraction. Section [sensing] of a level.
 struct SensingParams {
-  std::string calibration;  ///< calibration YAML file, "" maps the image linearly
+  std::string calibration;          ///< calibration YAML file, "" maps the image linearly
+  int backgroundFrames = 0;         ///< frames averaged into the background at start (0 = estimate)
+  double backgroundWarmup = 0.3;    ///< time an estimated background follows every pixel, s
+  double backgroundLearning = 0.0;  ///< time constant of the learned background, s (0 = frozen)
+  double smooth = 0.0;              ///< Gaussian smoothing deviation, cm (0 = none)
+  double highpassWidth = 0.0;       ///< width of the blur the high-pass subtracts, cm (0 = none)
+  double highpassCap = 40.0;        ///< most slow brightness the high-pass removes, 8-bit grey
+  double gain = 1.0;                ///< amplification after the high-pass, non-dimensional
   ThresholdMode thresholdMode = ThresholdMode::kFixed;  ///< fixed level or automatic (Otsu)
-  double threshold = 60.0;       ///< fixed threshold on the normalized image, 8-bit grey
+  double threshold = 60.0;       ///< fixed threshold on the filtered image, 8-bit grey
   double autoFloor = 30.0;       ///< lowest threshold the automatic mode may pick, 8-bit grey
-  int backgroundFrames = 0;      ///< frames averaged into the background at start (0 = estimate)
   int morphology = 1;            ///< radius of the clean-up opening, pixels (0 = none)
   double minArea = 0.5;          ///< smallest contact kept, cm^2
   double spacing = 0.3;          ///< arc-length spacing of resampled contours, cm

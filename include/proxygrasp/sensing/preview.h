@@ -1,0 +1,25 @@
+// The sensing view for tuning a real table: every stage of the filter chain side by side, and the
+// camera image with the contacts' outlines and ids drawn on it.
+#pragma once
+
+#include "proxygrasp/sensing/sensor.h"
+
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace pg {
+
+/// A contact to draw on the camera image: its outline in table cm and its id (< 0: none).
+struct PreviewContact {
+  const Blob* blob = nullptr;
+  int id = -1;
+};
+
+/// A BGR image of the sensor's last frame: the camera image with the contacts' outlines and ids,
+/// then each filter stage (SensingStage order, background to binary), labelled, in a grid of
+/// `columns` tiles each the camera image's size. Empty when the sensor has not run a frame.
+cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& contacts,
+                       int columns = 4);
+
+}  // namespace pg

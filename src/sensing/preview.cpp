@@ -1,0 +1,66 @@
+#include "proxygrasp/sensing/preview.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <string>
+
+namespace pg {
+
+namespace {
+
+// one labelled BGR tile from a grey stage image
+cv::Mat Tile(const cv::Mat& grey, cv::Size size, const std::string& label) {
+  cv::Mat tile;
+  if (grey.empty())
+    tile = cv::Mat::zeros(size, CV_8UC3);
+  else
+    cv::cvtColor(grey, tile, cv::COLOR_GRAY2BGR);
+  const double scale = std::max(0.4, size.width / 640.0);
+  cv::putText(tile, label, cv::Point(6, static_cast<int>(18 * scale)), cv::FONT_HERSHEY_SIMPLEX,
+              0.5 * scale, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
+  return tile;
+}
+
+}  // namespace
+
+cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& contacts,
+                       int columns) {
+  const cv::Mat& camera = sensor.StageImage(SensingStage::kCamera);
+  if (camera.empty() || columns < 1) return cv::Mat();
+  const cv::Size size = camera.size();
+
+  // the camera image with each contact's outline (green) and id (red) in camera pixels
+  cv::Mat first = Tile(camera, size, "camera + contacts");
+  for (const PreviewContact& c : contacts) {
+    if (c.blob == nullptr || c.blob->contour.cols() < 3) continue;
+    std::vector<cv::Point> outline;
+    for (Eigen::Index k = 0; k < c.blob->contour.cols(); ++k) {
+      const Vec2 px = sensor.model().TableToCamera(c.blob->contour.col(k));
+      outline.emplace_back(static_cast<int>(std::lround(px.x())),
+                           static_cast<int>(std::lround(px.y())));
+    }
+    cv::polylines(first, outline, true, cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
+    if (c.id >= 0) {
+      const Vec2 at = sensor.model().TableToCamera(c.blob->centroid);
+      cv::putText(first, std::to_string(c.id),
+                  cv::Point(static_cast<int>(at.x()) + 6, static_cast<int>(at.y()) - 6),
+                  cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+    }
+  }
+
+  // then every stage after the camera, in chain order
+  std::vector<cv::Mat> tiles{first};
+  for (int k = 1; k < kSensingStageCount; ++k)
+    tiles.push_back(
+        Tile(sensor.StageImage(static_cast<SensingStage>(k)), size, kSensingStageNames[k]));
+  const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
+  cv::Mat out = cv::Mat::zeros(size.height * rows, size.width * columns, CV_8UC3);
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    const int col = static_cast<int>(i) % columns, row = static_cast<int>(i) / columns;
+    tiles[i].copyTo(out(cv::Rect(col * size.width, row * size.height, size.width, size.height)));
+  }
+  return out;
+}
+
+}  // namespace pg

@@ -1,0 +1,203 @@
+// Test helpers for the real table footage in ../shared/real: the hand-made labels
+// (testdata/real_labels.txt), running the sensor over a clip, and scoring contacts against labels.
+#pragma once
+
+#include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/sensor.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace pg::real {
+
+/// A circle in camera pixels.
+struct Spot {
+  double x = 0.0, y = 0.0, r = 0.0;
+};
+
+/// One labelled frame.
+struct LabelledFrame {
+  int index = 0;
+  std::vector<Spot> tips;    // r unused
+  std::vector<Spot> maybes;  // neither required nor false
+};
+
+/// One clip (video or still) and its labelled frames.
+struct LabelledClip {
+  std::string path;  // relative to the real data folder
+  double cmPerPixel = 0.15;
+  std::vector<Spot> hotspots;
+  std::vector<LabelledFrame> frames;
+  bool IsStill() const {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    return ext == ".jpeg" || ext == ".jpg" || ext == ".png";
+  }
+  int LastFrame() const { return frames.empty() ? 0 : frames.back().index; }
+};
+
+/// The real footage folder: $PROXYGRASP_REAL_DATA, else ../shared/real beside the project, else
+/// /work/shared/real; "" when none exists.
+inline std::string RealDataDir() {
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("PROXYGRASP_REAL_DATA")) candidates.push_back(env);
+  candidates.push_back(std::string(PROXYGRASP_SOURCE_DIR) + "/../shared/real");
+  candidates.push_back(std::string(PROXYGRASP_SOURCE_DIR) + "/../../shared/real");
+  for (const std::string& c : candidates)
+    if (std::filesystem::is_directory(c)) return c;
+  return "";
+}
+
+/// Reads testdata/real_labels.txt (format in its header).
+inline std::vector<LabelledClip> ReadLabels(const std::string& file) {
+  std::vector<LabelledClip> clips;
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key)) continue;
+    if (key == "clip") {
+      clips.emplace_back();
+      words >> clips.back().path;
+    } else if (key == "scale") {
+      words >> clips.back().cmPerPixel;
+    } else if (key == "hotspot") {
+      Spot s;
+      words >> s.x >> s.y >> s.r;
+      clips.back().hotspots.push_back(s);
+    } else if (key == "frame") {
+      clips.back().frames.emplace_back();
+      words >> clips.back().frames.back().index;
+    } else if (key == "tip") {
+      Spot s;
+      words >> s.x >> s.y;
+      clips.back().frames.back().tips.push_back(s);
+    } else if (key == "maybe") {
+      Spot s;
+      words >> s.x >> s.y >> s.r;
+      clips.back().frames.back().maybes.push_back(s);
+    }
+  }
+  return clips;
+}
+
+/// The table a clip's camera sees: the linear calibration of an image whose pixels are
+/// cmPerPixel wide (the scale of each table, read from its fingertip size; see real_labels.txt).
+inline TableParams ClipTable(const LabelledClip& clip, cv::Size size) {
+  TableParams t;
+  t.width = size.width * clip.cmPerPixel;
+  t.height = size.height * clip.cmPerPixel;
+  return t;
+}
+
+/// Runs the sensor with `params` over a clip from its first frame to `lastFrame` (a still: its
+/// one frame), calling `each(index, frame, sensor)` after every frame. The clip's frames come as
+/// the camera delivered them (colour for videos and JPEG stills). False when it cannot be read.
+inline bool RunClip(const std::string& dir, const LabelledClip& clip, const SensingParams& params,
+                    int lastFrame,
+                    const std::function<void(int, const ContourFrame&, const Sensor&)>& each) {
+  const std::string path = dir + "/" + clip.path;
+  Sensor sensor;
+  if (clip.IsStill()) {
+    const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
+    if (image.empty()) return false;
+    if (sensor.Configure(params, ClipTable(clip, image.size()),
+                         LinearCalibration(image.size(), ClipTable(clip, image.size())), path))
+      return false;
+    Result<ContourFrame> r = sensor.Step(image, 0, 0.0);
+    if (!r) return false;
+    each(0, r.value(), sensor);
+    return true;
+  }
+  cv::VideoCapture video(path);
+  if (!video.isOpened()) return false;
+  double fps = video.get(cv::CAP_PROP_FPS);
+  if (!(fps > 0.0)) fps = 30.0;
+  cv::Mat frame;
+  for (int i = 0; i <= lastFrame && video.read(frame); ++i) {
+    if (i == 0 &&
+        sensor.Configure(params, ClipTable(clip, frame.size()),
+                         LinearCalibration(frame.size(), ClipTable(clip, frame.size())), path))
+      return false;
+    Result<ContourFrame> r = sensor.Step(frame, i, i / fps);
+    if (!r) return false;
+    each(i, r.value(), sensor);
+  }
+  return true;
+}
+
+/// True when the contact's outline holds the camera point, or passes within `slackPx` of it.
+inline bool Holds(const Blob& blob, const Sensor& sensor, const Spot& at, double slackPx) {
+  const Vec2 p = sensor.model().CameraToTable(Vec2(at.x, at.y));
+  std::vector<cv::Point2f> outline;
+  outline.reserve(static_cast<size_t>(blob.contour.cols()));
+  for (Eigen::Index k = 0; k < blob.contour.cols(); ++k)
+    outline.emplace_back(static_cast<float>(blob.contour(0, k)),
+                         static_cast<float>(blob.contour(1, k)));
+  const double cmPerPx = sensor.model().CmPerPixel(Vec2(at.x, at.y));
+  return cv::pointPolygonTest(outline,
+                              cv::Point2f(static_cast<float>(p.x()), static_cast<float>(p.y())),
+                              true) >= -slackPx * cmPerPx;
+}
+
+/// The camera pixel of a contact's centroid.
+inline Vec2 CentroidPixel(const Blob& blob, const Sensor& sensor) {
+  return sensor.model().TableToCamera(blob.centroid);
+}
+
+/// Scores of labelled frames.
+struct Score {
+  int frames = 0;
+  int tips = 0;        // labelled fingertips
+  int found = 0;       // labelled fingertips some contact holds
+  int contacts = 0;    // contacts in labelled frames
+  int unmatched = 0;   // contacts that hold no fingertip and lie in no "maybe" circle
+  std::string misses;  // where, for messages
+};
+
+/// Label reading precision (real_labels.txt): a contact passing within this of a label holds it.
+inline constexpr double kLabelSlackPx = 3.0;
+
+/// Scores one labelled frame's contacts.
+inline void ScoreFrame(const LabelledClip& clip, const LabelledFrame& labels,
+                       const ContourFrame& frame, const Sensor& sensor, Score& score) {
+  ++score.frames;
+  for (const Spot& tip : labels.tips) {
+    ++score.tips;
+    bool found = false;
+    for (const Blob& b : frame.blobs) found = found || Holds(b, sensor, tip, kLabelSlackPx);
+    if (found)
+      ++score.found;
+    else
+      score.misses += " missed " + clip.path + "@" + std::to_string(labels.index) + "(" +
+                      std::to_string(static_cast<int>(tip.x)) + "," +
+                      std::to_string(static_cast<int>(tip.y)) + ")";
+  }
+  for (const Blob& b : frame.blobs) {
+    ++score.contacts;
+    bool matched = false;
+    for (const Spot& tip : labels.tips) matched = matched || Holds(b, sensor, tip, kLabelSlackPx);
+    const Vec2 c = CentroidPixel(b, sensor);
+    for (const Spot& m : labels.maybes)
+      matched = matched || std::hypot(c.x() - m.x, c.y() - m.y) <= m.r;
+    if (!matched) {
+      ++score.unmatched;
+      score.misses += " extra " + clip.path + "@" + std::to_string(labels.index) + "(" +
+                      std::to_string(static_cast<int>(c.x())) + "," +
+                      std::to_string(static_cast<int>(c.y())) + ")";
+    }
+  }
+}
+
+}  // namespace pg::real
