@@ -68,6 +68,9 @@ struct HandModel {
   double palmCorner = 1.8;
   std::vector<Finger> fingers;  // thumb first
   std::vector<Vec2> tips;       // fingertip cap centres, from the fingers
+  std::vector<Vec2> mids;       // finger axis midpoints, from the fingers
+  std::vector<double> reaches;  // half axis length plus radius: no finger point is farther from
+                                // its midpoint
   double blend = 0.5;  // radius of the fillets where fingers meet the palm and each other, cm
   bool cupped = false;
 };
@@ -78,7 +81,11 @@ Vec2 FingerTip(const Finger& f) {
 }
 
 HandModel WithTips(HandModel h) {
-  for (const Finger& f : h.fingers) h.tips.push_back(FingerTip(f));
+  for (const Finger& f : h.fingers) {
+    h.tips.push_back(FingerTip(f));
+    h.mids.push_back(0.5 * (f.base + h.tips.back()));
+    h.reaches.push_back(0.5 * (h.tips.back() - f.base).norm() + f.radius);
+  }
   return h;
 }
 
@@ -129,8 +136,21 @@ constexpr double kCupHalfThickness = 0.75;
 double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
   if (h.cupped) return ArcDistance(p, kCupRadius, kPi, DegToRad(kCupHalfSpan), kCupHalfThickness);
   double d = RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
-  for (const Finger& f : h.fingers)
-    d = RoundUnion(d, CapsuleDistance(p, f.base, h.tips[&f - h.fingers.data()], f.radius), h.blend);
+  for (size_t i = 0; i < h.fingers.size(); ++i) {
+    // A finger's distance is at least |p - mid| - reach. Where that is at least m = max(blend, d)
+    // the union takes nothing from the finger: RoundUnion(d, b, blend) is the same number for
+    // every b >= m (v = 0 and min(d, b) = d), so it is computed with b = m, bit for bit what the
+    // finger's own distance gives, without the finger. Most pixels of a hand are far from most
+    // of its fingers. (1e-6 cm keeps rounding in the bound on the safe side.)
+    const double m = std::max(h.blend, d);
+    const double far = m + h.reaches[i] + 1e-6;
+    if (far > 0.0 && (p - h.mids[i]).squaredNorm() >= far * far) {
+      d = RoundUnion(d, m, h.blend);
+      continue;
+    }
+    const Finger& f = h.fingers[i];
+    d = RoundUnion(d, CapsuleDistance(p, f.base, h.tips[i], f.radius), h.blend);
+  }
   return d;
 }
 
@@ -451,8 +471,21 @@ cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo) {
 
 cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
   const int w = m_params.width, h = m_params.height;
-  cv::Mat contact = cv::Mat::zeros(h, w, CV_32F);
-  cv::Mat halo = cv::Mat::zeros(h, w, CV_32F);
+  // reused buffers: a fresh pair of 1.2 MB images a frame cost more than drawing the shapes
+  // (page faults and clearing); only what the last frame drew is cleared
+  Scratch& scratch = m_scratch;
+  if (scratch.contact.rows != h || scratch.contact.cols != w) {
+    scratch.contact = cv::Mat::zeros(h, w, CV_32F);
+    scratch.halo = cv::Mat::zeros(h, w, CV_32F);
+    scratch.drawn.clear();
+  }
+  for (const cv::Rect& r : scratch.drawn) {
+    scratch.contact(r).setTo(0.0f);
+    scratch.halo(r).setTo(0.0f);
+  }
+  scratch.drawn.clear();
+  cv::Mat& contact = scratch.contact;
+  cv::Mat& halo = scratch.halo;
   const double haloWidth = m_params.haloWidth;
 
   for (const ContactShape& s : shapes) {
@@ -481,6 +514,8 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
     const int uEnd = std::min(w - 1, static_cast<int>(std::ceil(u1)) + 3);
     const int vBegin = std::max(0, static_cast<int>(std::floor(v0)) - 3);
     const int vEnd = std::min(h - 1, static_cast<int>(std::ceil(v1)) + 3);
+    if (uBegin > uEnd || vBegin > vEnd) continue;  // entirely off the image
+    scratch.drawn.emplace_back(uBegin, vBegin, uEnd - uBegin + 1, vEnd - vBegin + 1);
 
     // area coverage from the signed distance in pixels (a one-pixel linear ramp), and the halo;
     // 8x8 blocks whose centre is far outside (beyond the halo) or deep inside are done at once

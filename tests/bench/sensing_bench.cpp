@@ -78,10 +78,40 @@ void BM_TwoFlatHandsDistorted(benchmark::State& state) {
   SenseAndTrack(state, "hands", -0.08);
 }
 
+// The synthetic camera's own cost: rendering one frame of the scene (not in the pipeline's stage
+// times, but every script, mouse and touch frame pays it). Issue 17's target: two hands in at most
+// 1 ms.
+void Render(benchmark::State& state, const std::string& scene) {
+  cv::setNumThreads(0);
+  const TableParams table;
+  SyntheticCamera camera(SyntheticCameraParams{}, table);
+  std::vector<std::vector<ContactShape>> scenes(kFrames);
+  for (int i = 0; i < kFrames; ++i) DemoScene(scene, 10 + i, table, scenes[i]);
+  int64_t index = 0;
+  for (auto _ : state) {
+    const cv::Mat frame = camera.Render(scenes[index % kFrames]);
+    benchmark::DoNotOptimize(frame.data);
+    ++index;
+  }
+}
+void BM_RenderTenFingertips(benchmark::State& state) {
+  Render(state, "fingers");
+}
+void BM_RenderTwoFlatHands(benchmark::State& state) {
+  Render(state, "hands");
+}
+// no shapes at all (DemoScene knows no "clear" scene and leaves the list empty)
+void BM_RenderClearTable(benchmark::State& state) {
+  Render(state, "clear");
+}
+
 BENCHMARK(BM_TenFingertips)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
 BENCHMARK(BM_TwoFlatHands)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
 BENCHMARK(BM_TenFingertipsDistorted)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
 BENCHMARK(BM_TwoFlatHandsDistorted)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_RenderTenFingertips)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_RenderTwoFlatHands)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_RenderClearTable)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
 
 // The filter chain of issue 14 side by side: the whole sensing stage (Sensor::Step with the
 // default chain: background subtraction, smoothing, high-pass, gain, threshold, opening, contours,

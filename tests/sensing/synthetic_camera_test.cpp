@@ -287,6 +287,26 @@ TEST(SyntheticCamera, EveryPixelFollowsTheImageModel) {
   EXPECT_LE(worst, 2);
 }
 
+TEST(SyntheticCamera, ReusedBuffersLeaveNothingOfTheLastFrame) {
+  // Render keeps its coverage and halo images between frames and clears only what the last
+  // frame drew: a frame after other shapes (and after an empty frame) is the frame a fresh camera
+  // renders, pixel for pixel; a copied camera draws into its own buffers
+  SyntheticCameraParams p;
+  p.noise = 0.0;
+  const ContactShape first[] = {Shape(ShapeKind::kHandFlat, {20, 20}, 0.3),
+                                Shape(ShapeKind::kCircle, {45, 30})};
+  const ContactShape second[] = {Shape(ShapeKind::kHandFive, {25, 22}, -0.4)};
+  SyntheticCamera fresh(p, TableParams{});
+  const cv::Mat expected = fresh.Render(second);
+  SyntheticCamera used(p, TableParams{});
+  used.Render(first);
+  SyntheticCamera copy = used;
+  EXPECT_EQ(cv::norm(used.Render(second), expected, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(used.Render({}), fresh.Render({}), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(used.Render(second), expected, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(copy.Render(second), expected, cv::NORM_INF), 0.0);
+}
+
 TEST(SyntheticCamera, PressureDimsAContact) {
   SyntheticCameraParams p;
   p.noise = 0.0;

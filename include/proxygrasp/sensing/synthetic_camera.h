@@ -90,6 +90,23 @@ class SyntheticCamera {
   cv::Mat m_gain;                  // CV_32F: vignetting gain, 0..1
   cv::Mat m_background;            // CV_32F: background level before vignetting, grey
   std::vector<float> m_noiseBank;  // standard normal samples, drawn once from the seed
+
+  // Render's coverage and halo images (CV_32F), kept between frames: only the rectangles the last
+  // frame drew into are cleared. A copy of the camera starts with its own (empty) scratch, so two
+  // copies never draw into one buffer.
+  struct Scratch {
+    cv::Mat contact, halo;
+    std::vector<cv::Rect> drawn;  // pixel rectangles written since the last clear
+    Scratch() = default;
+    Scratch(const Scratch&) {}
+    Scratch& operator=(const Scratch&) {
+      contact.release();
+      halo.release();
+      drawn.clear();
+      return *this;
+    }
+  };
+  Scratch m_scratch;
 };
 
 /// The camera model a SyntheticCamera with these params uses.
