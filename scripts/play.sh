@@ -7,5 +7,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake --preset release
-cmake --build --preset release
+# only what it plays: the proxygrasp program (the test command builds the rest)
+cmake --build --preset release --target proxygrasp
 exec build/release/proxygrasp play "$@"
