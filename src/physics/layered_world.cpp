@@ -265,6 +265,8 @@ void LayeredWorld::StepFrame() {
     o.topFriction.setZero();
     o.topNormal = 0.0;
   }
+  // particles far from every object stay out of the Box2D worlds this frame
+  w.UpdateActivity();
 
   // substeps: control, step the layers, couple, support
   const int S = w.params.substeps;
@@ -499,6 +501,12 @@ std::vector<ParticleState> LayeredWorld::Particles() const {
 
 int LayeredWorld::ParticleCount() const {
   return static_cast<int>(m_impl->particles.size());
+}
+
+int LayeredWorld::ActiveParticleCount() const {
+  int n = 0;
+  for (const ParticleData& p : m_impl->particles) n += p.active ? 1 : 0;
+  return n;
 }
 
 int LayeredWorld::BodyCount() const {

@@ -94,6 +94,7 @@ void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Ve
     bd.linearVelocity = ToB2(vel);
     bd.fixedRotation = true;
     bd.allowSleep = false;
+    bd.enabled = p.active;
     b2Body* body = layers[k]->world->CreateBody(&bd);
     body->CreateFixture(&fd);
     body->SetMassData(&md);
@@ -112,6 +113,16 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
   const double m = params.particleMass;
   for (ParticleData& p : particles) {
     const Vec2 goal = p.prevTarget + alpha * (p.target - p.prevTarget);
+    if (!p.active) {
+      // nothing within reach: the control would put the body on its goal with the velocity
+      // that got it there (x' = x + dt v', v' = (x* - x)/dt); do it directly, outside Box2D
+      for (b2Body* b : p.bodies) {
+        const Vec2 x = FromB2(b->GetPosition());
+        b->SetLinearVelocity(ToB2((goal - x) / dt));
+        b->SetTransform(ToB2(goal), 0.0f);
+      }
+      continue;
+    }
     for (b2Body* b : p.bodies) {
       const Vec2 x = FromB2(b->GetPosition());
       const Vec2 v = FromB2(b->GetLinearVelocity());
@@ -139,6 +150,32 @@ void LayeredWorld::Impl::UpdateSupport() {
     DestroyBodies(p);
     p.baseLayer = layer;
     CreateBodies(p, pos, vel);
+  }
+}
+
+void LayeredWorld::Impl::UpdateActivity() {
+  // An object moves at most (|v| + |omega| r) T in a frame of T seconds (plus what a push adds
+  // within the frame: kActivityMargin). A particle whose straight path from where it is to its
+  // target stays farther than that, plus both radii, from every object's bounding circle cannot
+  // touch it this frame.
+  const double frameTime = 1.0 / params.frameRate;
+  for (ParticleData& p : particles) {
+    bool active = p.restingOn != kNoObject;
+    const Vec2 from = FromB2(p.bodies.front()->GetPosition());
+    const Vec2 path = p.target - from;
+    const double length2 = path.squaredNorm();
+    for (size_t oi = 0; oi < objects.size() && !active; ++oi) {
+      const ObjectData& o = objects[oi];
+      const double travel = (o.vel.norm() + std::abs(o.omega) * o.boundRadius) * frameTime;
+      const double reach = o.boundRadius + params.particleRadius + travel + kActivityMargin;
+      // nearest point of the path to the object's origin
+      const double t =
+          length2 > 0.0 ? std::clamp((o.pose.pos - from).dot(path) / length2, 0.0, 1.0) : 0.0;
+      active = (from + t * path - o.pose.pos).squaredNorm() <= reach * reach;
+    }
+    if (active == p.active) continue;
+    p.active = active;
+    for (b2Body* b : p.bodies) b->SetEnabled(active);
   }
 }
 

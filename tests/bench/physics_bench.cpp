@@ -1,4 +1,4 @@
-// LayeredWorld::Step on a two-hand scene: K = 8 layers, 10 objects, 600 particles (two hand
+// LayeredWorld::Step on a two-hand scene: K = 8 layers, 10 (or 2) objects, 600 particles (two hand
 // outlines of 300 points sweeping over the objects), serial versus threaded layer stepping.
 //   build/release/bench_physics [--benchmark_filter=...]
 #include "proxygrasp/core/units.h"
@@ -66,7 +66,9 @@ void BM_StepFrameTwoHands(benchmark::State& state) {
   p.threads = static_cast<int>(state.range(0));
   p.stackSize = static_cast<int>(state.range(1));
   LayeredWorld world;
-  const std::vector<ObjectSpec> objects = Objects();
+  // the first `objects` of the ten: with 2, most of each hand is far from every object
+  std::vector<ObjectSpec> objects = Objects();
+  objects.resize(static_cast<size_t>(state.range(2)));
   if (world.Build(p, TableParams{}, objects)) {
     state.SkipWithError("build failed");
     return;
@@ -98,14 +100,17 @@ void BM_StepFrameTwoHands(benchmark::State& state) {
   for (auto _ : state) step();
   state.counters["bodies"] = world.BodyCount();
   state.counters["particles"] = world.ParticleCount();
+  state.counters["active"] = world.ActiveParticleCount();
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_StepFrameTwoHands)
-    ->ArgNames({"threads", "stack"})
-    ->Args({1, 1})
-    ->Args({2, 1})
-    ->Args({1, 3})
-    ->Args({2, 3})
+    ->ArgNames({"threads", "stack", "objects"})
+    ->Args({1, 1, 10})
+    ->Args({2, 1, 10})
+    ->Args({1, 3, 10})
+    ->Args({2, 3, 10})
+    ->Args({1, 3, 2})
+    ->Args({2, 3, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -54,6 +54,38 @@ TEST(KinematicControl, ParticlesNeverCollideWithEachOther) {
     EXPECT_NEAR((s.pos - Vec2(20, 20)).norm(), 0.0, 1e-4);
 }
 
+TEST(KinematicControl, ParticlesFarFromObjectsStayOutOfTheWorldsUntilOneComesNear) {
+  // A box (4 x 4 cm, bounding radius 2.83 cm) launched at 120 cm/s along +x slides
+  // v^2 / (2 mu_k g) = 120^2 / (2 * 0.3 * 981) = 24.5 cm on the table alone, to x = 54.5. A
+  // particle stack held at x = 45 lies in its way, 15 cm off at the start: farther than the box's
+  // reach in a frame (2.83 + 0.25 + 2 cm of travel + 1 cm margin = 6.1 cm), so the stack starts
+  // outside the Box2D worlds, and a second stack far off stays out all the time. The near stack
+  // must be back in its worlds before the box arrives: the box then stops against it (its centre
+  // short of 45 - 0.25 - 2 = 42.75 cm once the stack is back on its target) instead of sliding
+  // through to 54.5.
+  PhysicsParams p;
+  p.stackSize = 2;
+  ObjectSpec box = test::Box("launched", 30, 23);
+  box.velocity = Vec2(120, 0);
+  LayeredWorld w;
+  MustBuild(w, p, {box});
+  w.ApplyPlan(Plan({Create(1, Vec2(45, 23), Vec2(45, 23)), Create(2, Vec2(10, 40), Vec2(10, 40))}));
+  w.StepFrame();
+  EXPECT_EQ(w.ActiveParticleCount(), 0);
+  bool nearJoined = false;
+  for (int f = 0; f < 120; ++f) {
+    w.ApplyPlan(Plan({Reuse(1, Vec2(45, 23)), Reuse(2, Vec2(10, 40))}));
+    w.StepFrame();
+    nearJoined = nearJoined || w.ActiveParticleCount() == 1;
+    EXPECT_LE(w.ActiveParticleCount(), 1) << "frame " << f;  // the far stack never joins
+  }
+  EXPECT_TRUE(nearJoined);
+  EXPECT_LT(w.Object(0).centerOfMass.x(), 45.0 - p.particleRadius - 2.0 + kSlop);
+  EXPECT_GT(w.Object(0).centerOfMass.x(), 38.0);  // it did get there
+  // the far stack, outside Box2D, sits exactly on its target (float positions)
+  for (const ParticleState& s : w.Particles()) EXPECT_NEAR((s.pos - s.target).norm(), 0.0, 1e-4);
+}
+
 // runs a particle at `speed` towards a 1 cm thick heavy wall and reports whether it ever got past
 bool Tunnels(int substeps, double speed, double radius) {
   PhysicsParams p;

@@ -84,6 +84,10 @@ class LayeredWorld : public SceneQuery {
   std::vector<ParticleState> Particles() const;
   /// Number of particle stacks.
   int ParticleCount() const;
+  /// Particle stacks whose bodies took part in the Box2D worlds in the last frame: those whose
+  /// path came within reach of an object, or that rest on one. The others were put on their
+  /// targets directly (docs/physics.md, Particles far from objects).
+  int ActiveParticleCount() const;
   /// Box2D bodies in all layers: object slices plus particle bodies (walls not counted).
   int BodyCount() const;
   /// Frames stepped since Build.
