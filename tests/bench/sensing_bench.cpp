@@ -118,21 +118,13 @@ BENCHMARK(BM_RenderClearTable)->Unit(benchmark::kMicrosecond)->MeasureProcessCPU
 // sub-pixel edges, table mapping, resampling, background learning) against the same filters as
 // bare OpenCV calls ending at findContours. Target: the sensing stage within 1.5x of the bare
 // chain.
-// both run the real-table settings of docs/sensing.md
-SensingParams RealTableParams() {
-  SensingParams p;
-  p.backgroundLearning = 10.0;  // s
-  p.highpassWidth = 4.0;        // cm
-  p.highpassCap = 40.0;         // grey
-  p.threshold = 30.0;           // grey
-  return p;
-}
+// both run the real-table settings of docs/sensing.md (RealTableSensingParams)
 
 void BM_ChainSensingStage(benchmark::State& state) {
   cv::setNumThreads(0);
   const Recording rec = Record("fingers", 0.0);
   Sensor sensor;
-  if (sensor.Configure(RealTableParams(), TableParams{}, rec.calibration) ||
+  if (sensor.Configure(RealTableSensingParams(), TableParams{}, rec.calibration) ||
       sensor.SetBackground(rec.background)) {
     state.SkipWithError("sensor configuration failed");
     return;
@@ -151,7 +143,7 @@ void BM_ChainSensingStage(benchmark::State& state) {
 void BM_ChainBareOpenCV(benchmark::State& state) {
   cv::setNumThreads(0);
   const Recording rec = Record("fingers", 0.0);
-  const SensingParams p = RealTableParams();
+  const SensingParams p = RealTableSensingParams();
   // the same sizes in pixels as the sensor uses (61 cm over 640 px)
   const double pxPerCm = 640.0 / TableParams{}.width;
   const double sigma = p.smooth * pxPerCm;

@@ -491,17 +491,6 @@ TEST(EstimateBackground, MatchesTheClearTableUnderContacts) {
   EXPECT_LT(worstDarker, 12.0);
 }
 
-// The real-table settings of docs/sensing.md: the defaults keep the synthetic levels' outcomes
-// (high-pass and learning off, threshold 60); real footage takes these, one set for every clip.
-SensingParams RealTableParams() {
-  SensingParams p;
-  p.backgroundLearning = 10.0;  // s
-  p.highpassWidth = 4.0;        // cm
-  p.highpassCap = 40.0;         // grey
-  p.threshold = 30.0;           // grey
-  return p;
-}
-
 TEST(Sensor, ColourFramesAreConvertedToGrey) {
   Rig rig;
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
@@ -554,7 +543,7 @@ TEST(Sensor, HighpassFadesAWideGlowAndKeepsAFingertip) {
   // a 4 cm (deviation) glow 45 grey bright, with a fingertip on it: the glow alone is over the
   // threshold of 30; the high-pass (4 cm wide, removing up to 40 grey) leaves the glow at most
   // 45 - 40 = 5 grey where its own blur is at its peak, so only the fingertip is a contact
-  SensingParams sp = RealTableParams();
+  SensingParams sp = RealTableSensingParams();
   Rig rig(HardCamera(), sp);
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   const ContactShape shapes[] = {Circle({30.0, 22.0}, 0.8)};
@@ -608,7 +597,7 @@ TEST(Sensor, WarmupMakesAStaticHotSpotBackground) {
   // no background given: estimated from the first frame, which shows an illuminator's hot spot
   // (a 3 cm deviation glow 150 grey bright, wider than the 32 px blocks of the estimate); after
   // the warm-up (0.3 s) it is background, and a fingertip that comes later is the only contact
-  SensingParams sp = RealTableParams();
+  SensingParams sp = RealTableSensingParams();
   Rig rig(HardCamera(), sp);
   const cv::Mat empty = WithGlow(rig, rig.camera.Render({}), Vec2(15.0, 30.0), 3.0, 150.0);
   for (int i = 0; i < 30; ++i) ASSERT_TRUE(rig.sensor.Step(empty, i, i / 30.0));
@@ -650,7 +639,7 @@ real::Score ScoreClips(const RealData& d, const std::vector<std::string>& names)
     real::Score s;
     size_t next = 0;
     const bool read =
-        real::RunClip(d.dir, clip, RealTableParams(), clip.LastFrame(),
+        real::RunClip(d.dir, clip, RealTableSensingParams(), clip.LastFrame(),
                       [&](int i, const ContourFrame& f, const Sensor& sensor) {
                         while (next < clip.frames.size() && clip.frames[next].index < i) ++next;
                         if (next < clip.frames.size() && clip.frames[next].index == i)
@@ -688,7 +677,7 @@ TEST(RealFootage, RealTableSettingsFindNoContactAtTheHotSpotsOfT2AfterTheFirstSe
     if (clip.hotspots.empty()) continue;
     int hits = 0, frames = 0;
     // a contact "at" a hot spot: its centroid within half the spot's radius of the centre
-    ASSERT_TRUE(real::RunClip(d.dir, clip, RealTableParams(), 1 << 30,
+    ASSERT_TRUE(real::RunClip(d.dir, clip, RealTableSensingParams(), 1 << 30,
                               [&](int, const ContourFrame& f, const Sensor& sensor) {
                                 ++frames;
                                 if (f.time <= 1.0) return;

@@ -114,4 +114,10 @@ struct ContourFrame {
 void Describe(SyntheticCameraParams& p, ParamVisitor& v);
 void Describe(SensingParams& p, ParamVisitor& v);
 
+/// The real-table settings of docs/sensing.md: the defaults with background learning (10 s), a
+/// capped high-pass (4 cm, 40 grey) and threshold 30, one set for every clip in ../shared/real.
+/// The defaults themselves keep the synthetic levels' outcomes (high-pass and learning off,
+/// threshold 60).
+SensingParams RealTableSensingParams();
+
 }  // namespace pg
