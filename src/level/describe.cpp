@@ -54,6 +54,9 @@ void DescribeObject(ObjectSpec& o, ParamVisitor& v) {
   v.Real("size_y", o.sizeY, 0.1, 200, "cm", "box: depth along local y");
   v.Real("radius", o.radius, 0.1, 100, "cm", "cylinder, sphere: radius; frustum: bottom radius");
   v.Real("top_radius", o.topRadius, 0, 100, "cm", "frustum: top radius (0 makes a cone)");
+  v.Real("patch_radius", o.patchRadius, 0, 100, "cm",
+         "sphere: radius of its contact patch on the table, at most its radius; table friction "
+         "resists its spin over the patch (0: a point that spins freely)");
   v.Real("height", o.height, 0.1, 100, "cm", "box, cylinder, frustum, prisms: height");
   v.Points("points", o.points, -100, 100, "cm",
            "prisms: outline in the local frame, any winding (required for prisms)");
@@ -91,6 +94,7 @@ bool ObjectKeyApplies(ObjectShape shape, std::string_view key) {
   if (key == "size_x" || key == "size_y") return shape == S::kBox;
   if (key == "radius") return OneOf(shape, {S::kCylinder, S::kSphere, S::kFrustum});
   if (key == "top_radius") return shape == S::kFrustum;
+  if (key == "patch_radius") return shape == S::kSphere;
   if (key == "height") return shape != S::kSphere;
   if (key == "points") return OneOf(shape, {S::kConvexPrism, S::kConcavePrism});
   return true;

@@ -129,8 +129,17 @@ MaybeError ValidateObject(const ObjectSpec& spec, const PhysicsParams& params, s
       if ((s = positive("size_x", spec.sizeX)) || (s = positive("size_y", spec.sizeY))) return s;
       break;
     case ObjectShape::kCylinder:
-    case ObjectShape::kSphere:
       if ((s = positive("radius", spec.radius))) return s;
+      break;
+    case ObjectShape::kSphere:
+      if ((s = positive("radius", spec.radius)) ||
+          (s = nonNegative("patch_radius", spec.patchRadius))) {
+        return s;
+      }
+      if (spec.patchRadius > spec.radius) {
+        return fail("patch_radius", "must be at most the radius " + Num(spec.radius) + " (got " +
+                                        Num(spec.patchRadius) + ")");
+      }
       break;
     case ObjectShape::kFrustum:
       if ((s = positive("radius", spec.radius)) ||
@@ -386,7 +395,8 @@ Vec2 NearestFootprintPoint(const CrossSection& footprint, const Vec2& p) {
 double EffectiveFrictionRadius(const ObjectSpec& spec, const Vec2& centroid) {
   switch (spec.shape) {
     case ObjectShape::kSphere:
-      return 0.0;
+      // its contact patch, a small disc of uniform pressure like a cylinder's base
+      return 2.0 * spec.patchRadius / 3.0;
     case ObjectShape::kCylinder:
     case ObjectShape::kFrustum:
       return 2.0 * spec.radius / 3.0;  // the base disc

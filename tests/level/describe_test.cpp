@@ -27,7 +27,7 @@ TEST(Describe, ObjectKeysAreUniqueAndDocumented) {
     EXPECT_TRUE(keys.insert(f.key).second) << f.key;
     EXPECT_FALSE(f.doc.empty()) << f.key;
   }
-  EXPECT_EQ(keys.size(), 19u) << "every ObjectSpec field but loc is a key";
+  EXPECT_EQ(keys.size(), 20u) << "every ObjectSpec field but loc is a key";
 }
 
 TEST(Describe, AnglesAreListedInDegrees) {
@@ -58,7 +58,7 @@ TEST(Describe, SizeKeysApplyToTheirShapes) {
 
 TEST(Describe, SizeKeysOfAShapeComeFromTheDescription) {
   EXPECT_EQ(ObjectSizeKeys(ObjectShape::kBox), "size_x, size_y, height");
-  EXPECT_EQ(ObjectSizeKeys(ObjectShape::kSphere), "radius");
+  EXPECT_EQ(ObjectSizeKeys(ObjectShape::kSphere), "radius, patch_radius");
   EXPECT_EQ(ObjectSizeKeys(ObjectShape::kFrustum), "radius, top_radius, height");
   EXPECT_EQ(ObjectSizeKeys(ObjectShape::kConcavePrism), "height, points");
   EXPECT_EQ(ContactSizeKeys(ShapeKind::kEllipse), "radius_x, radius_y");

@@ -29,7 +29,8 @@ TEST(LevelErrors, SizeKeysMustFitTheShape) {
             "inline.toml:4:1: 'radius' does not apply to a box (its size keys: size_x, size_y, "
             "height)");
   EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"sphere\"\nheight = 2\n"),
-            "inline.toml:4:1: 'height' does not apply to a sphere (its size keys: radius)");
+            "inline.toml:4:1: 'height' does not apply to a sphere (its size keys: radius, "
+            "patch_radius)");
   EXPECT_EQ(ErrorOf("[[script.contacts]]\nname = \"f\"\nshape = \"hand_five\"\nradius = 1\n"
                     "keys = [{t = 0, pos = [1, 1]}]\n"),
             "inline.toml:4:1: 'radius' does not apply to a hand_five contact (its size keys: "
@@ -73,6 +74,10 @@ TEST(LevelErrors, ObjectConsistency) {
   EXPECT_EQ(
       ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\ntable_kinetic = 0.6\npos = [5, 5]\n"),
       "inline.toml:4:17: object 'a': table_kinetic must be <= table_static (0.6 > 0.4)");
+  // a sphere's contact patch lies within it
+  EXPECT_EQ(ErrorOf("[[objects]]\nname = \"a\"\nshape = \"sphere\"\nradius = 1\n"
+                    "patch_radius = 1.5\npos = [5, 5]\n"),
+            "inline.toml:5:16: object 'a': patch_radius must be at most the radius 1 (got 1.5)");
   EXPECT_EQ(
       ErrorOf("[[objects]]\nname = \"a\"\nshape = \"box\"\nmass = 5\ndensity = 1\npos = [5, 5]\n"),
       "inline.toml:5:1: give either mass or density, not both");

@@ -72,7 +72,8 @@ double FootprintSignedDistance(const ObjectSpec& spec, const CrossSection& footp
 Vec2 NearestFootprintPoint(const CrossSection& footprint, const Vec2& p);
 
 /// Mean distance of the base's area from the centroid (2R/3 for a disc), the lever arm of table
-/// friction against turning; 0 for a sphere, which touches the table at a point, cm.
+/// friction against turning; for a sphere 2a/3 of its contact patch of radius a (patch_radius;
+/// 0 makes it a point that spins freely), cm.
 double EffectiveFrictionRadius(const ObjectSpec& spec, const Vec2& centroid);
 
 /// Splits a simple counter-clockwise polygon into convex pieces of at most maxVertices vertices

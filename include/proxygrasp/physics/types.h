@@ -48,6 +48,8 @@ struct ObjectSpec {
   double sizeY = 4.0;              ///< box depth along local y, cm
   double radius = 2.0;             ///< cylinder, sphere, frustum bottom radius, cm
   double topRadius = 0.0;          ///< frustum top radius (0 makes a cone), cm
+  double patchRadius = 0.05;       ///< sphere: radius of its flat contact patch on the table, cm
+                                   ///< (table friction resists its spin over the patch)
   double height = 2.0;             ///< box, cylinder, frustum and prism height, cm (sphere: 2r)
   std::vector<Vec2> points;        ///< prism outline in the local frame, cm
   double mass = 0.0;               ///< g; when > 0 it overrides density
