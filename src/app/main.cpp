@@ -4,8 +4,17 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <malloc.h>
 
 int main(int argc, char** argv) {
+  // Every frame OpenCV allocates and frees images of a few hundred KB to a few MB (optical flow
+  // pyramids, Sobel magnitudes, blurs). With glibc's adaptive thresholds those were, depending on
+  // the order of earlier allocations, mapped fresh or trimmed off the heap each frame and faulted
+  // in again: instant_fails ran 2.2x slower (2.6 s of system time) after an unrelated change of
+  // allocation order. Keeping freed memory for reuse makes the cost independent of that order;
+  // the peak stays what the largest frame needs (docs/performance.md, memory of a long run).
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   CLI::App app{
       "proxygrasp: grasp virtual objects on an imaging touch table with persistent "
       "particle proxies (Wilson, ITS 2009)."};
