@@ -28,6 +28,14 @@ class AppTest : public ::testing::Test {
     unsetenv("SDL_VIDEODRIVER");
   }
 
+  // what a test's app wrote (recordings, screenshots) goes with the test
+  void TearDown() override { std::filesystem::remove_all(OutDir()); }
+
+  static std::string OutDir() {
+    return (std::filesystem::temp_directory_path() / ("pg_app_out_" + std::to_string(getpid())))
+        .string();
+  }
+
   AppOptions Options(const std::string& level, const std::string& input) {
     AppOptions options;
     options.level = level;
@@ -35,9 +43,7 @@ class AppTest : public ::testing::Test {
     options.windowSize = {800, 600};
     options.realtime = false;
     options.reloadInterval = 0.0;  // look at the file every frame
-    options.outDir =
-        (std::filesystem::temp_directory_path() / ("pg_app_out_" + std::to_string(getpid())))
-            .string();
+    options.outDir = OutDir();
     return options;
   }
 

@@ -43,6 +43,7 @@ TEST(RunCommand, BadLevelExitsTwoWithLocation) {
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_THAT(r.output, HasSubstr(path + ":2:1:"));
   EXPECT_THAT(r.output, HasSubstr("did you mean 'substeps'"));
+  std::filesystem::remove(path);
 }
 
 TEST(RunCommand, BadSetExitsTwo) {

@@ -197,6 +197,7 @@ TEST(SenseCommand, BadLevelFileExitsTwoWithLocation) {
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_THAT(r.output, HasSubstr(path + ":2:1:"));
   EXPECT_THAT(r.output, HasSubstr("did you mean 'width'"));
+  std::filesystem::remove(path);
 }
 
 TEST(SenseCommand, SetChangesParameters) {
