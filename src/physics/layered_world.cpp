@@ -543,7 +543,8 @@ MaybeError LayeredWorld::SetParams(const PhysicsParams& physics) {
   for (size_t oi = 0; oi < w.objects.size(); ++oi) {
     w.particleFriction[oi] = ParticleFriction(w.objects[oi].spec, physics);
   }
-  if (physics.particleMass != old.particleMass) {
+  if (physics.gripStiffness != old.gripStiffness || physics.gripDamping != old.gripDamping ||
+      physics.substeps != old.substeps) {
     const b2MassData md = w.ParticleMassData();
     for (ParticleData& p : w.particles) {
       for (b2Body* b : p.bodies) b->SetMassData(&md);

@@ -16,7 +16,12 @@ void Describe(PhysicsParams& p, ParamVisitor& v) {
   v.Real("gravity", p.gravity, 0, 10000, "cm/s^2", "gravity for table friction");
   v.Real("particle_radius", p.particleRadius, 0.01, 5, "cm",
          {"radius of one particle body", Apply::kRestart});
-  v.Real("particle_mass", p.particleMass, 0.001, 1000, "g", "mass of one particle body");
+  v.Real("grip_stiffness", p.gripStiffness, 1, 1e8, "dyn/cm",
+         "normal force of a particle body per cm its target lies inside an object");
+  v.Real("grip_damping", p.gripDamping, 0, 1e6, "dyn s/cm",
+         "normal force of a particle body per cm/s its target moves into an object");
+  v.Real("grip_max_depth", p.gripMaxDepth, 0.001, 100, "cm",
+         "target depth inside an object beyond which a particle presses no harder");
   v.Integer("stack_size", p.stackSize, 1, 16, "1",
             {"S, bodies per particle stack", Apply::kRestart});
   v.Boolean("capsule", p.capsule,

@@ -8,17 +8,6 @@
 
 namespace pg {
 
-namespace {
-
-bool Touching(b2Body* body) {
-  for (b2ContactEdge* e = body->GetContactList(); e != nullptr; e = e->next) {
-    if (e->contact->IsTouching()) return true;
-  }
-  return false;
-}
-
-}  // namespace
-
 int LayeredWorld::Impl::LayerOf(double z) const {
   const int k = static_cast<int>(std::lround(z / params.layerHeight));
   return std::clamp(k, 0, LayerCount() - 1);
@@ -64,9 +53,13 @@ int LayeredWorld::Impl::CreationLayer(const Vec2& p, double baseHeight) const {
   return k;
 }
 
+double LayeredWorld::Impl::ParticleMass() const {
+  return params.gripStiffness * dt * dt + params.gripDamping * dt;
+}
+
 b2MassData LayeredWorld::Impl::ParticleMassData() const {
   b2MassData md;
-  md.mass = static_cast<float>(params.particleMass);
+  md.mass = static_cast<float>(ParticleMass());
   md.center.SetZero();
   md.I = 0.0f;  // rotation is fixed
   return md;
@@ -109,8 +102,43 @@ void LayeredWorld::Impl::DestroyBodies(ParticleData& p) {
   p.bodies.clear();
 }
 
+void LayeredWorld::Impl::StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const {
+  // The plain control would move the body to its aim in one substep, up to 0.5 cm into an object
+  // at full grip (d_max); a contact that is not in the solver yet cannot stop it. Cast the circle
+  // along its path against the objects it has contacts with (its fat bounding box overlaps
+  // theirs) and stop it where it first meets one: the next substep finds the contact and presses.
+  const Vec2 path = *aim - x;
+  if (path.squaredNorm() == 0.0) return;
+  double lambda = 1.0;
+  const b2Fixture* particle = body->GetFixtureList();
+  for (b2ContactEdge* e = body->GetContactList(); e != nullptr; e = e->next) {
+    const b2Contact* contact = e->contact;
+    const bool particleIsA = contact->GetFixtureA() == particle;
+    const b2Fixture* other = particleIsA ? contact->GetFixtureB() : contact->GetFixtureA();
+    b2ShapeCastInput input;
+    input.proxyA.Set(other->GetShape(),
+                     particleIsA ? contact->GetChildIndexB() : contact->GetChildIndexA());
+    input.proxyB.Set(particle->GetShape(), 0);
+    input.transformA = other->GetBody()->GetTransform();
+    input.transformB = body->GetTransform();
+    input.translationB = ToB2(path);
+    b2ShapeCastOutput output;
+    if (b2ShapeCast(&output, &input)) lambda = std::min(lambda, static_cast<double>(output.lambda));
+  }
+  *aim = x + lambda * path;
+}
+
 void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
-  const double m = params.particleMass;
+  // The controller F = m ((aim - x)/dt - v)/dt lands a free body on its aim. A body pressing on
+  // an object is held at its surface by the contact, so along the contact normal the object feels
+  // m (aim - x)/dt^2 - (m/dt) v_surface. With m = k dt^2 + c dt and the aim's normal part set to
+  // (k min(d, d_max) + c v_goal) dt^2 / m, where d is how far the goal lies inside the surface,
+  // that is the implicit spring-damper k min(d_end, d_max) + c (v_goal - v_surface): the same
+  // force law at any substep count (docs/physics.md, "Grip").
+  const double m = ParticleMass();
+  const double k = params.gripStiffness, c = params.gripDamping;
+  const double dMax = params.gripMaxDepth;
+  const double aimScale = dt * dt / m;
   for (ParticleData& p : particles) {
     const Vec2 goal = p.prevTarget + alpha * (p.target - p.prevTarget);
     if (!p.active) {
@@ -123,15 +151,40 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       }
       continue;
     }
+    const Vec2 goalVel = (p.target - p.prevTarget) * params.frameRate;
     for (b2Body* b : p.bodies) {
       const Vec2 x = FromB2(b->GetPosition());
       const Vec2 v = FromB2(b->GetLinearVelocity());
-      const Vec2 force = m * ((goal - x) / dt - v) / dt;
+      Vec2 aim = goal;
+      // contacts as they are now (Box2D's flags date from the last step's start): a body that
+      // overlaps an object presses on it; the others may only reach its surface this substep
+      bool pressing = false;
+      for (b2ContactEdge* e = b->GetContactList(); e != nullptr; e = e->next) {
+        b2Contact* contact = e->contact;
+        b2Fixture* fa = contact->GetFixtureA();
+        b2Fixture* fb = contact->GetFixtureB();
+        const b2Transform& xfA = fa->GetBody()->GetTransform();
+        const b2Transform& xfB = fb->GetBody()->GetTransform();
+        b2Manifold manifold;
+        contact->Evaluate(&manifold, xfA, xfB);
+        if (manifold.pointCount == 0) continue;
+        pressing = true;
+        b2WorldManifold wm;
+        wm.Initialize(&manifold, xfA, fa->GetShape()->m_radius, xfB, fb->GetShape()->m_radius);
+        // Box2D's normal points from fixture A to fixture B; particles touch objects only
+        const Vec2 in = (fa->GetBody() == b ? 1.0 : -1.0) * FromB2(wm.normal);
+        const double d = (aim - x).dot(in);
+        if (d <= 0.0) continue;  // moving off the surface: the plain control lets go
+        const double push = k * std::min(d, dMax) + c * goalVel.dot(in);
+        aim += (push * aimScale - d) * in;
+      }
+      if (!pressing) StopAtSurface(b, x, &aim);
+      const Vec2 force = m * ((aim - x) / dt - v) / dt;
       b->ApplyForceToCenter(ToB2(force), true);
       // continuous collision only when a step could carry the body past a surface: a body moving
       // less than its radius per step, or already pressing on a surface, is held by the ordinary
       // contact; time-of-impact sub-steps would only disturb the contact forces and cost time
-      b->SetBullet((goal - x).norm() > params.particleRadius && !Touching(b));
+      b->SetBullet((aim - x).norm() > params.particleRadius && !pressing);
     }
   }
 }

@@ -8,6 +8,7 @@
 #include "proxygrasp/physics/layered_world.h"
 #include "proxygrasp/physics/shapes.h"
 
+#include <box2d/b2_distance.h>
 #include <box2d/box2d.h>
 
 #include <memory>
@@ -209,6 +210,10 @@ struct LayeredWorld::Impl {
   /// its top, dyn.
   double TableNormal(int oi) const;
   /// Mass data of one particle body.
+  /// Shortens a body's step from x towards *aim so that it stops where it first meets an object.
+  void StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const;
+  /// Mass of one particle body, k dt^2 + c dt (docs/physics.md, "Grip"), g.
+  double ParticleMass() const;
   b2MassData ParticleMassData() const;
   /// Applies the queued external pushes for one substep.
   void ApplyPushes();

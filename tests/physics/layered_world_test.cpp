@@ -286,7 +286,9 @@ PhysicsParams Tuned() {
   p.velocityIterations = 6;
   p.positionIterations = 4;
   p.gravity = 700;
-  p.particleMass = 2.0;
+  p.gripStiffness = 40000;
+  p.gripDamping = 120;
+  p.gripMaxDepth = 0.3;
   p.particleDownForce = 3500;
   p.particleFriction = 0.5;
   p.topKineticFactor = 0.6;

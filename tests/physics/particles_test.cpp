@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace pg {
@@ -151,22 +152,28 @@ struct Squeeze {
     return (world.Object(0).centerOfMass - start).norm();
   }
 
+  // the normal force of one body: k times its target's depth below the face, which is d plus the
+  // overlap Box2D leaves in a resting contact, at most d_max
+  double PerBody() const { return params.gripStiffness * std::min(d + kSlop, params.gripMaxDepth); }
+
   // the force at which the grip slips: table static friction plus particle friction mu * N
   double Limit() const {
-    const double dt = 1.0 / (params.frameRate * params.substeps);
-    const double normal = 12 * params.particleMass * (d + kSlop) / (dt * dt);
+    const double normal = 12 * PerBody();
     return 0.4 * world.Object(0).mass * g + params.particleFriction * normal;
   }
 };
 
-TEST(KinematicControl, ParticleLandsOnItsTargetAfterItsMassIsRetuned) {
-  // the controller's force uses the new mass, so the bodies already in the world must take it too
+TEST(KinematicControl, ParticleLandsOnItsTargetAfterItsGripIsRetuned) {
+  // the body mass is k dt^2 + c dt and the controller uses the new one, so the bodies already in
+  // the world must take it too
   PhysicsParams p;
   LayeredWorld w;
   MustBuild(w, p, {});
   w.ApplyPlan(Plan({Create(1, Vec2(10, 10), Vec2(10, 10))}));
   w.StepFrame();
-  p.particleMass = 3.0;
+  p.gripStiffness = 3 * 57600;
+  p.gripDamping = 500;
+  p.substeps = 7;
   ASSERT_EQ(w.SetParams(p), std::nullopt);
   w.ApplyPlan(Plan({Reuse(1, Vec2(12, 10))}));
   w.StepFrame();
@@ -174,14 +181,13 @@ TEST(KinematicControl, ParticleLandsOnItsTargetAfterItsMassIsRetuned) {
   EXPECT_NEAR((w.Particles()[0].pos - Vec2(12, 10)).norm(), 0.0, 1e-4);
 }
 
-TEST(Squeeze, NormalForceIsMassTimesDepthOverDtSquared) {
+TEST(Squeeze, NormalForceIsStiffnessTimesDepth) {
   Squeeze sq(0.2);
-  const double dt = 1.0 / (sq.params.frameRate * sq.params.substeps);
   const ObjectForces f = sq.world.Forces(0);
-  // a resting particle overlaps the face by Box2D's linear slop, so its target lies d + slop
-  // ahead of it: F = m (d + slop) / dt^2 per body
-  const double perBody = sq.params.particleMass * (sq.d + kSlop) / (dt * dt);
-  // 12 bodies (3 stacks x 2 layers x 2 sides); 1% for float rounding and solver residue
+  // 12 bodies (3 stacks x 2 layers x 2 sides), each k (d + slop); 1% for float rounding and
+  // solver residue
+  const double perBody = sq.PerBody();
+  EXPECT_NEAR(perBody, 57600 * 0.205, 1e-9);
   EXPECT_NEAR(f.total.normalMagnitude, 12 * perBody, 0.01 * 12 * perBody);
   EXPECT_NEAR(f.layers[0].normalMagnitude, 6 * perBody, 0.01 * 6 * perBody);
   EXPECT_NEAR(f.layers[1].normalMagnitude, 6 * perBody, 0.01 * 6 * perBody);
@@ -191,20 +197,66 @@ TEST(Squeeze, NormalForceIsMassTimesDepthOverDtSquared) {
   EXPECT_TRUE(sq.world.Object(0).held);
 }
 
-TEST(Squeeze, RetunedParticleMassAndSubstepsSetTheNewNormalForce) {
-  // SetParams reaches the bodies already in the world: doubling the particle mass and going from
-  // 4 to 6 substeps changes m / dt^2 by 2 * 1.5^2 = 4.5
-  Squeeze sq(0.2);
-  PhysicsParams tuned = sq.params;
-  tuned.particleMass = 2.0;
-  tuned.substeps = 6;
-  ASSERT_EQ(sq.world.SetParams(tuned), std::nullopt);
-  for (int f = 0; f < 10; ++f) sq.world.StepFrame();  // settle
-  const double dt = 1.0 / (tuned.frameRate * tuned.substeps);
-  const double perBody = tuned.particleMass * (sq.d + kSlop) / (dt * dt);
-  // 12 bodies as above; 1% for float rounding and solver residue
+TEST(Squeeze, NormalForceIsTheSameAtAnySubstepCount) {
+  // the force law is k min(d, d_max) per body whatever dt is: 2, 4 and 8 substeps, and a retuned
+  // stiffness reaches the bodies already in the world
+  for (int substeps : {2, 4, 8}) {
+    Squeeze sq(0.2);
+    PhysicsParams tuned = sq.params;
+    tuned.gripStiffness = 30000;
+    tuned.substeps = substeps;
+    ASSERT_EQ(sq.world.SetParams(tuned), std::nullopt);
+    sq.params = tuned;
+    for (int f = 0; f < 10; ++f) sq.world.StepFrame();  // settle
+    const double perBody = sq.PerBody();
+    // 12 bodies as above; 1% for float rounding and solver residue
+    EXPECT_NEAR(sq.world.Forces(0).total.normalMagnitude, 12 * perBody, 0.01 * 12 * perBody)
+        << substeps << " substeps";
+    EXPECT_TRUE(sq.world.Object(0).held);
+  }
+}
+
+TEST(Squeeze, PressingDeeperThanTheMaximumDepthAddsNoForce) {
+  // targets 1.3 cm inside the faces press with k d_max = 57600 x 1.0 dyn per body, not k x 1.3
+  Squeeze sq(1.3);
+  const double perBody = 57600 * 1.0;
+  EXPECT_NEAR(sq.PerBody(), perBody, 1e-9);
+  // 12 bodies; 1% for float rounding and solver residue
   EXPECT_NEAR(sq.world.Forces(0).total.normalMagnitude, 12 * perBody, 0.01 * 12 * perBody);
+  // both sides press with k d_max wherever the box sits while each side's targets stay at least
+  // d_max deep, so the box is free to sit anywhere within d - d_max = 0.3 cm of the centre, and
+  // held there
+  EXPECT_NEAR(sq.world.Object(0).pose.pos.x(), 30.0, 0.3);
   EXPECT_TRUE(sq.world.Object(0).held);
+}
+
+TEST(Squeeze, DampingAddsForceWhileTheTargetsMoveIn) {
+  // both rows' targets move into the box at u = 3 cm/s, which the symmetric squeeze keeps still:
+  // each body pushes k (d(t) + slop) + c u, d(t) growing by u / 60 per frame
+  Squeeze sq(0.1);
+  PhysicsParams tuned = sq.params;
+  tuned.gripDamping = 2000;
+  ASSERT_EQ(sq.world.SetParams(tuned), std::nullopt);
+  sq.params = tuned;
+  const double u = 3.0;
+  const double r = sq.params.particleRadius;
+  for (int f = 1; f <= 6; ++f) {
+    const double in = sq.d + u * f / 60.0;
+    std::vector<PlannedParticle> ps;
+    for (int i = 0; i < 3; ++i) {
+      ps.push_back(Reuse(i + 1, Vec2(28 - r + in, 22 + i)));
+      ps.push_back(Reuse(i + 11, Vec2(32 + r - in, 22 + i)));
+    }
+    sq.world.ApplyPlan(Plan(ps));
+    sq.world.StepFrame();
+    // the frame's mean over its S = 4 substeps, each using its goal at the substep's end: d is
+    // in - (u/60)(1 - (s+1)/S), mean in - (u/60)(S-1)/(2S) = in - u/160
+    const double spring = sq.params.gripStiffness * (in - u / 160.0 + kSlop);
+    const double perBody = spring + tuned.gripDamping * u;
+    // 12 bodies; 2% for float rounding, solver residue and the first substep's start
+    EXPECT_NEAR(sq.world.Forces(0).total.normalMagnitude, 12 * perBody, 0.02 * 12 * perBody)
+        << "frame " << f;
+  }
 }
 
 TEST(Squeeze, HoldsBelowFrictionLimitAndSlidesAbove) {

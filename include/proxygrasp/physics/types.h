@@ -23,7 +23,11 @@ struct PhysicsParams {
   int layers = 8;                   ///< layer count K, at most 16
   double gravity = 981.0;           ///< cm/s^2
   double particleRadius = 0.25;     ///< radius of one particle body, cm
-  double particleMass = 1.0;        ///< mass of one particle body, g
+  double gripStiffness = 57600;     ///< grip spring: normal force on an object per cm a particle
+                                    ///< body's target lies inside it, dyn/cm
+  double gripDamping = 0.0;         ///< grip dashpot: normal force per cm/s the target moves into
+                                    ///< the object relative to its surface, dyn s/cm
+  double gripMaxDepth = 1.0;        ///< depth beyond which pressing deeper adds no force, cm
   int stackSize = 1;                ///< S, bodies per particle stack in consecutive layers
   bool capsule = false;             ///< fill every layer from the base to the top instead of S
   double particleDownForce = 2000;  ///< constant downward force per particle, dyn
