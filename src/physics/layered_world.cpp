@@ -267,6 +267,7 @@ void LayeredWorld::StepFrame() {
   }
   // particles far from every object stay out of the Box2D worlds this frame
   w.UpdateActivity();
+  w.UpdateSpin();
 
   // substeps: control, step the layers, couple, support
   const int S = w.params.substeps;

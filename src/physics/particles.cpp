@@ -153,6 +153,7 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
     }
     const Vec2 goalVel = (p.target - p.prevTarget) * params.frameRate;
     for (b2Body* b : p.bodies) {
+      b->SetAngularVelocity(static_cast<float>(p.spin));
       const Vec2 x = FromB2(b->GetPosition());
       const Vec2 v = FromB2(b->GetLinearVelocity());
       Vec2 aim = goal;
@@ -203,6 +204,44 @@ void LayeredWorld::Impl::UpdateSupport() {
     DestroyBodies(p);
     p.baseLayer = layer;
     CreateBodies(p, pos, vel);
+  }
+}
+
+void LayeredWorld::Impl::UpdateSpin() {
+  // A particle is a piece of a finger's surface. When the finger turns, that surface moves with
+  // it: a body that only translated would roll along a face it grips (its contact point moving
+  // at the face's speed, its centre r further out lagging behind by r omega), and its spring,
+  // pulled back to its target, would push the face on in the turn's direction (a box turned by
+  // two fingertips turned 10% further than they did). The turn of a contact is the rotation that
+  // best carries its particles' previous targets to their targets (least squares about their
+  // means); the bodies carry it as angular velocity. They never turn by themselves: their
+  // rotation is fixed, so no contact changes it.
+  struct Sums {
+    Vec2 from = Vec2::Zero();
+    Vec2 to = Vec2::Zero();
+    int count = 0;
+    double cross = 0.0;
+    double dot = 0.0;
+  };
+  std::unordered_map<ContactId, Sums> sums;
+  for (const ParticleData& p : particles) {
+    Sums& s = sums[p.contact];
+    s.from += p.prevTarget;
+    s.to += p.target;
+    ++s.count;
+  }
+  for (const ParticleData& p : particles) {
+    Sums& s = sums[p.contact];
+    const Vec2 a = p.prevTarget - s.from / s.count;
+    const Vec2 b = p.target - s.to / s.count;
+    s.cross += a.x() * b.y() - a.y() * b.x();
+    s.dot += a.dot(b);
+  }
+  for (ParticleData& p : particles) {
+    const Sums& s = sums[p.contact];
+    // fewer than three points, or a contour turned by more than a right angle in one frame,
+    // shows no turn that a surface could have
+    p.spin = s.count >= 3 && s.dot > 0.0 ? std::atan2(s.cross, s.dot) * params.frameRate : 0.0;
   }
 }
 

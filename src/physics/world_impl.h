@@ -157,6 +157,9 @@ struct ParticleData {
   /// within reach of an object this frame: its bodies take part in their Box2D worlds. Otherwise
   /// they are disabled there and put on their goals directly (UpdateActivity)
   bool active = true;
+  /// the turn rate of its contact this frame, rad/s: its bodies carry it as angular velocity so
+  /// that their surfaces move with the finger's (UpdateSpin)
+  double spin = 0.0;
   std::vector<b2Body*> bodies;  ///< layers baseLayer, baseLayer + 1, ...
 };
 
@@ -210,6 +213,8 @@ struct LayeredWorld::Impl {
   /// its top, dyn.
   double TableNormal(int oi) const;
   /// Mass data of one particle body.
+  /// Sets each particle's spin from its contact's rigid turn this frame.
+  void UpdateSpin();
   /// Shortens a body's step from x towards *aim so that it stops where it first meets an object.
   void StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const;
   /// Mass of one particle body, k dt^2 + c dt (docs/physics.md, "Grip"), g.
