@@ -105,8 +105,18 @@ void LayeredWorld::Impl::PrepareTableFriction() {
   for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
     ObjectData& o = objects[oi];
     const double N = TableNormal(oi);
-    const double mu = o.sliding ? o.spec.tableKinetic : o.spec.tableStatic;
-    const double muTurn = o.spinning ? o.spec.tableKinetic : o.spec.tableStatic;
+    // A joint in each layer resists sliding and turning, solved with the layer's contacts, so
+    // that a grip meets the table's friction where it acts. Its two limits are separate, but the
+    // table's friction is one, spread over the base (Couple() solves it over the base points):
+    // at rest the joint may hold up to the static limits mu_s N and mu_s N r_eff; while the
+    // object slides it resists with the force and torque the base points gave in the last
+    // substep, which share the kinetic friction between sliding and turning.
+    double force = o.spec.tableStatic * N;
+    double torque = o.spec.tableStatic * N * o.rEff;
+    if (o.sliding) {
+      force = o.slideForce.norm();
+      torque = std::abs(o.slideTorque);
+    }
     // split like the mass: each of the n slices that carry the object's mass in this substep
     // resists with 1/n of the limit, so a grip solved in its layers meets the whole table
     // friction and no more; Couple() then brings the sum within the Coulomb limit (a push that
@@ -115,8 +125,8 @@ void LayeredWorld::Impl::PrepareTableFriction() {
     const bool all = n == static_cast<int>(o.slices.size());
     for (Slice& s : o.slices) {
       const double share = all || s.touching ? 1.0 / n : 0.0;
-      s.table->SetMaxForce(static_cast<float>(share * mu * N));
-      s.table->SetMaxTorque(static_cast<float>(share * muTurn * N * o.rEff));
+      s.table->SetMaxForce(static_cast<float>(share * force));
+      s.table->SetMaxTorque(static_cast<float>(share * torque));
     }
   }
 }
@@ -140,17 +150,96 @@ void LayeredWorld::Impl::StepLayers() {
 
 namespace {
 
-// projected Gauss-Seidel sweeps over one object's friction impulses in one substep; the impulses
-// of a few dozen particles and the table settle to 1e-6 of their size well within this
-constexpr int kFrictionIterations = 16;
+// projected Gauss-Seidel sweeps over one object's friction impulses in one substep, at most; the
+// sweeps stop when one changes the impulses by less than kSettled of their limits
+constexpr int kFrictionIterations = 48;
+constexpr double kSettled = 1e-9;
 
 // a limit counts as reached within this fraction, so a converged static solve is not taken as
 // sliding through rounding
 constexpr double kLimitReached = 1.0 - 1e-9;
 
+// Newton iterations for a sliding object's table friction, and the slip speed below which a
+// point's slip direction is smoothed, cm/s (a micrometre a second)
+constexpr int kSlideNewtonIterations = 20;
+constexpr double kSlipFloor = 1e-4;
+// the slip below which a sliding object counts as come to rest, cm/s
+constexpr double kRestingSlip = 20 * kSlipFloor;
+
+// motion the table friction leaves, as a fraction of what it had to stop, below which the object
+// counts as held still
+constexpr double kStillFraction = 1e-2;
+
 Vec2 ClampNorm(const Vec2& v, double limit) {
   const double n = v.norm();
   return n > limit && n > 0.0 ? Vec2(v * (limit / n)) : v;
+}
+
+// Kinetic table friction of a sliding object, implicit in its motion: finds the twist t = (v, w)
+// with t = t_free + M^-1 W(t), where W is the wrench of the points' friction, each of magnitude
+// limit[k] against its own slip v + w x arm[k]. Newton's method on the 3 x 3 system; a slip is
+// regularised below kSlipFloor so that its direction has a derivative.
+void SolveSlidingTable(size_t P, const std::vector<Vec2>& arm, const std::vector<double>& limit,
+                       Vec2* vel, double* omega, std::vector<Vec2>* impulses, double M, double I) {
+  // the motion without the table's current impulses
+  Vec2 force = Vec2::Zero();
+  double torque = 0.0;
+  for (size_t k = 0; k < P; ++k) {
+    force += (*impulses)[k];
+    torque += Cross(arm[k], (*impulses)[k]);
+  }
+  const Eigen::Vector3d free(vel->x() - force.x() / M, vel->y() - force.y() / M,
+                             *omega - torque / I);
+  const Eigen::Vector3d invMass(1.0 / M, 1.0 / M, 1.0 / I);
+  // the residual t - free - M^-1 W(t) and, when asked, its Jacobian
+  auto residual = [&](const Eigen::Vector3d& t, Eigen::Matrix3d* jacobian) {
+    Eigen::Vector3d wrench = Eigen::Vector3d::Zero();
+    if (jacobian != nullptr) jacobian->setZero();
+    for (size_t k = 0; k < P; ++k) {
+      // slip = J t with J = [1 0 -a.y; 0 1 a.x]
+      Eigen::Matrix<double, 2, 3> J;
+      J << 1.0, 0.0, -arm[k].y(), 0.0, 1.0, arm[k].x();
+      const Eigen::Vector2d slip = J * t;
+      const double speed = std::sqrt(slip.squaredNorm() + kSlipFloor * kSlipFloor);
+      const Eigen::Vector2d dir = slip / speed;
+      wrench -= limit[k] * J.transpose() * dir;
+      if (jacobian != nullptr) {
+        // d(-L s/|s|)/ds = -(L/|s|)(1 - s s^T/|s|^2)
+        const Eigen::Matrix2d ds =
+            -(limit[k] / speed) *
+            (Eigen::Matrix2d::Identity() - slip * slip.transpose() / (speed * speed));
+        *jacobian += J.transpose() * ds * J;
+      }
+    }
+    return Eigen::Vector3d(t - free - invMass.asDiagonal() * wrench);
+  };
+  // Newton's method, each step shortened until it lowers the residual: friction of constant
+  // magnitude has no slope along the slip, so a full step can carry the motion through zero
+  Eigen::Vector3d t = free;
+  Eigen::Matrix3d jacobian;
+  Eigen::Vector3d res = residual(t, &jacobian);
+  for (int iter = 0; iter < kSlideNewtonIterations && res.norm() > 1e-12; ++iter) {
+    const Eigen::Matrix3d A = Eigen::Matrix3d::Identity() - invMass.asDiagonal() * jacobian;
+    const Eigen::Vector3d step = A.partialPivLu().solve(-res);
+    double scale = 1.0;
+    Eigen::Vector3d next = t + step;
+    Eigen::Vector3d nextRes = residual(next, nullptr);
+    for (int halving = 0; halving < 30 && nextRes.norm() >= res.norm(); ++halving) {
+      scale *= 0.5;
+      next = t + scale * step;
+      nextRes = residual(next, nullptr);
+    }
+    if (nextRes.norm() >= res.norm()) break;
+    t = next;
+    res = residual(t, &jacobian);
+  }
+  for (size_t k = 0; k < P; ++k) {
+    const Vec2 slip(t.x() - t.z() * arm[k].y(), t.y() + t.z() * arm[k].x());
+    const double speed = std::sqrt(slip.squaredNorm() + kSlipFloor * kSlipFloor);
+    (*impulses)[k] = -limit[k] / speed * slip;
+  }
+  *vel = Vec2(t.x(), t.y());
+  *omega = t.z();
 }
 
 }  // namespace
@@ -164,64 +253,105 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
   const double mu = particleFriction[oi];
   const double fdt = params.particleDownForce * dt;
   const size_t n = onTop.size();
+  const size_t P = o.tablePoints.size();
   FrictionSolve r;
-  r.vel = vel0;
-  r.omega = omega0;
+  // the table friction the slices' joints applied is taken out and solved again over the base
+  // points, which couple sliding and turning
+  r.vel = vel0 - applied.linear / M;
+  r.omega = omega0 - applied.angular / I;
   r.top.assign(n, Vec2::Zero());
   r.topSliding.assign(n, false);
-  // the impulses the slices' friction joints applied are the starting guess; the first sweep
-  // brings their sum within the limit
-  r.table = applied.linear;
-  r.spin = o.rEff > 0 ? applied.angular : 0.0;
+  r.table.assign(P, Vec2::Zero());
 
-  // impulse limits: static, or kinetic for the contacts that slid in the static pass
+  // impulse limits: static, or kinetic for the contacts that slid in the static pass; the table's
+  // points all slide when the object moves (only its centre of rotation is at rest)
   std::vector<double> topLimit(n, mu * fdt);
-  double tableLimit = o.spec.tableStatic * normal * dt;
-  double spinLimit = o.spec.tableStatic * normal * o.rEff * dt;
+  const double tableMu =
+      kinetic && staticPass->tableSliding ? o.spec.tableKinetic : o.spec.tableStatic;
   if (kinetic) {
     for (size_t k = 0; k < n; ++k) {
       if (staticPass->topSliding[k]) topLimit[k] *= params.topKineticFactor;
     }
-    if (staticPass->tableSliding) tableLimit = o.spec.tableKinetic * normal * dt;
-    if (staticPass->spinSliding) spinLimit = o.spec.tableKinetic * normal * o.rEff * dt;
   }
 
-  // each resting particle: its lever arm, its velocity, and the object's point mass there
-  std::vector<Vec2> arm(n), particleVel(n);
-  std::vector<Eigen::Matrix2d> pointMass(n);
-  for (size_t k = 0; k < n; ++k) {
-    const b2Body* base = particles[onTop[k]].bodies.front();
-    const Vec2 a = FromB2(base->GetPosition()) - center;
-    arm[k] = a;
-    particleVel[k] = FromB2(base->GetLinearVelocity());
+  // each point (resting particle or base point): its lever arm and the object's point mass there
+  auto pointMass = [&](const Vec2& a) {
     // inverse effective mass of the object at the point: K = 1/M + r_perp r_perp^T / I
     Eigen::Matrix2d K;
     K << 1.0 / M + a.y() * a.y() / I, -a.x() * a.y() / I, -a.x() * a.y() / I,
         1.0 / M + a.x() * a.x() / I;
-    pointMass[k] = K.inverse();
+    return Eigen::Matrix2d(K.inverse());
+  };
+  std::vector<Vec2> arm(n), particleVel(n);
+  std::vector<Eigen::Matrix2d> mass(n);
+  for (size_t k = 0; k < n; ++k) {
+    const b2Body* base = particles[onTop[k]].bodies.front();
+    arm[k] = FromB2(base->GetPosition()) - center;
+    particleVel[k] = FromB2(base->GetLinearVelocity());
+    mass[k] = pointMass(arm[k]);
   }
+  std::vector<Vec2> tableArm(P);
+  std::vector<Eigen::Matrix2d> tableMass(P);
+  std::vector<double> tableLimit(P);
+  for (size_t k = 0; k < P; ++k) {
+    const Vec2& a = o.tablePoints[k].arm;
+    tableArm[k] = Vec2(o.cosA * a.x() - o.sinA * a.y(), o.sinA * a.x() + o.cosA * a.y());
+    tableMass[k] = pointMass(tableArm[k]);
+    tableLimit[k] = tableMu * o.tablePoints[k].weight * normal * dt;
+  }
+  // a point friction impulse towards stopping the surface point at arm a (relative to `target`),
+  // within `limit`. Static: the impulse that stops it, clamped to the limit (projected
+  // Gauss-Seidel). Sliding: where even the limit cannot stop the point, kinetic friction opposes
+  // its slip velocity; the stopping impulse of a point off the centre is not parallel to its slip
+  // (it also undoes the turn), and clamping it would rob a slide of part of mu_k N.
+  double changed = 0.0;  // impulse changed in the current sweep
+  auto applyChange = [&](const Vec2& a, const Vec2& change) {
+    changed += change.norm();
+    r.vel += change / M;
+    r.omega += Cross(a, change) / I;
+  };
+  auto solvePoint = [&](Vec2& impulse, const Vec2& a, const Eigen::Matrix2d& m, const Vec2& target,
+                        double limit, bool sliding) {
+    const Vec2 slip = r.vel + r.omega * Vec2(-a.y(), a.x()) - target;
+    Vec2 total = impulse - m * slip;
+    const double slipSpeed = slip.norm();
+    if (total.norm() > limit) {
+      total =
+          sliding && slipSpeed > 0.0 ? Vec2(-limit / slipSpeed * slip) : ClampNorm(total, limit);
+    }
+    applyChange(a, total - impulse);
+    impulse = total;
+  };
+  const bool tableSlides = kinetic && staticPass->tableSliding;
 
+  double limits = 0.0;
+  for (double l : topLimit) limits += l;
+  for (double l : tableLimit) limits += l;
   for (int it = 0; it < kFrictionIterations; ++it) {
+    changed = 0.0;
     // top friction: each particle drags the surface point under it towards its own velocity
     for (size_t k = 0; k < n; ++k) {
-      const Vec2& a = arm[k];
-      const Vec2 surface = r.vel + r.omega * Vec2(-a.y(), a.x());
-      const Vec2 total =
-          ClampNorm(r.top[k] + pointMass[k] * (particleVel[k] - surface), topLimit[k]);
-      const Vec2 change = total - r.top[k];
-      r.top[k] = total;
-      r.vel += change / M;
-      r.omega += Cross(a, change) / I;
+      solvePoint(r.top[k], arm[k], mass[k], particleVel[k], topLimit[k],
+                 kinetic && staticPass->topSliding[k]);
     }
-    // table friction: resists the object's sliding with the full mass
-    const Vec2 table = ClampNorm(r.table - M * r.vel, tableLimit);
-    r.vel += (table - r.table) / M;
-    r.table = table;
-    if (o.rEff > 0) {
-      const double spin = std::clamp(r.spin - I * r.omega, -spinLimit, spinLimit);
-      r.omega += (spin - r.spin) / I;
-      r.spin = spin;
+    // table friction: each base point resists its own sliding with its share of the normal force
+    if (!tableSlides) {
+      for (size_t k = 0; k < P; ++k) {
+        solvePoint(r.table[k], tableArm[k], tableMass[k], Vec2::Zero(), tableLimit[k], false);
+      }
+      if (changed <= kSettled * limits) break;
+      continue;
     }
+    // Sliding: the table could not hold the object, so every base point slides (all but its
+    // centre of rotation) and kinetic friction opposes each point's slip, at the motion after the
+    // substep: W(t) = -sum L_k s_k / |s_k| with s_k the slip of point k under the twist t, and
+    // t = t_free + M^-1 W(t). Solved for t by Newton's method: one point at a time (Gauss-Seidel)
+    // or with the slip directions of the motion before would overshoot where the slips are slower
+    // than what the friction takes off in a substep (a spinning ball's small patch, or the point
+    // about which a pushed bar turns), and turn the directions at random.
+    SolveSlidingTable(P, tableArm, tableLimit, &r.vel, &r.omega, &r.table, M, I);
+    // without fingers on top one solve is the answer; with them, until their impulses settle
+    if (n == 0 || changed <= kSettled * limits) break;
   }
 
   // which limits were reached
@@ -229,8 +359,31 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
     r.topSliding[k] = r.top[k].norm() >= kLimitReached * topLimit[k];
     r.anyTopSliding = r.anyTopSliding || r.topSliding[k];
   }
-  r.tableSliding = r.table.norm() >= kLimitReached * tableLimit && r.vel.norm() > 0.0;
-  r.spinSliding = o.rEff > 0 && std::abs(r.spin) >= kLimitReached * spinLimit && r.omega != 0.0;
+  // the object slides when the table could not stop it: points at their limits and motion left
+  // (more than kStillFraction of what the table had to stop; projected Gauss-Seidel leaves a
+  // little of a motion it can stop)
+  const double reach = o.boundRadius;
+  const double left = r.vel.norm() + std::abs(r.omega) * reach;
+  // what the table had to stop: the motion the layers left it, and what the fingers on top gave
+  double free = (vel0 - applied.linear / M).norm() + std::abs(omega0 - applied.angular / I) * reach;
+  for (size_t k = 0; k < n; ++k) {
+    free += r.top[k].norm() / M + std::abs(Cross(arm[k], r.top[k])) / I * reach;
+  }
+  bool limited = false;
+  for (size_t k = 0; k < P && !limited; ++k) {
+    limited = r.table[k].norm() >= kLimitReached * tableLimit[k];
+  }
+  r.tableSliding = tableSlides || (limited && left > kStillFraction * free);
+  if (tableSlides) {
+    // kinetic friction that stops the object within the substep leaves only the slip that
+    // smooths its direction (a few kSlipFloor): it came to rest
+    double fastest = 0.0;
+    for (size_t k = 0; k < P; ++k) {
+      const Vec2& a = tableArm[k];
+      fastest = std::max(fastest, (r.vel + r.omega * Vec2(-a.y(), a.x())).norm());
+    }
+    r.tableSliding = fastest > kRestingSlip;
+  }
   return r;
 }
 
@@ -275,7 +428,7 @@ void LayeredWorld::Impl::Couple() {
     FrictionSolve solve =
         SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, table, N, false);
     // Coulomb: where a static limit is reached the contact slides, and slides at kinetic friction
-    if (solve.tableSliding || solve.spinSliding || solve.anyTopSliding) {
+    if (solve.tableSliding || solve.anyTopSliding) {
       solve = SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, table, N, true, &solve);
     }
     for (size_t k = 0; k < onTop[oi].size(); ++k) {
@@ -286,22 +439,32 @@ void LayeredWorld::Impl::Couple() {
     o.particlesOnTop = static_cast<int>(onTop[oi].size());
 
     // the substep's displacement follows the velocity after friction (symplectic Euler, as Box2D
-    // integrates); static table friction holds the object exactly still (a push below mu_s M g
-    // leaves only the contacts' position corrections)
+    // integrates); static table friction holds the object exactly still (a push within the
+    // static limits leaves only the contacts' position corrections)
     Vec2 move = solve.vel * dt + corr;
     double turn = solve.omega * dt + corrA;
     if (!solve.tableSliding) {
       solve.vel.setZero();
       move = corr;
-    }
-    if (o.rEff > 0 && !solve.spinSliding) {
-      solve.omega = 0.0;
-      turn = corrA;
+      // a sphere without a contact patch has nothing that resists its turning
+      if (o.rEff > 0) {
+        solve.omega = 0.0;
+        turn = corrA;
+      }
     }
     vel = solve.vel;
     omega = solve.omega;
     o.sliding = solve.tableSliding;
-    o.spinning = solve.spinSliding;
+    o.slideForce.setZero();
+    o.slideTorque = 0.0;
+    if (solve.tableSliding) {
+      for (size_t k = 0; k < o.tablePoints.size(); ++k) {
+        const Vec2& a = o.tablePoints[k].arm;
+        const Vec2 arm(o.cosA * a.x() - o.sinA * a.y(), o.sinA * a.x() + o.cosA * a.y());
+        o.slideForce += solve.table[k] / dt;
+        o.slideTorque += Cross(arm, solve.table[k]) / dt;
+      }
+    }
 
     o.center += move;
     o.angle += turn;

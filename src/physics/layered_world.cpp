@@ -144,6 +144,7 @@ MaybeError LayeredWorld::Build(const PhysicsParams& physics, const TableParams& 
     o.props = ComputeMassProps(o.spec);
     o.top = ObjectHeight(o.spec);
     o.rEff = EffectiveFrictionRadius(o.spec, o.props.centroid);
+    o.tablePoints = TableFrictionPoints(o.spec, o.props.centroid);
     o.footprint = Footprint(o.spec);
     for (int i = 0; i < o.footprint.outline.cols(); ++i) {
       o.boundRadius = std::max(o.boundRadius, o.footprint.outline.col(i).norm());

@@ -422,6 +422,68 @@ double EffectiveFrictionRadius(const ObjectSpec& spec, const Vec2& centroid) {
   return count > 0 ? sum / count : 0.0;
 }
 
+std::vector<FrictionPoint> TableFrictionPoints(const ObjectSpec& spec, const Vec2& centroid) {
+  std::vector<FrictionPoint> points;
+  const double rEff = EffectiveFrictionRadius(spec, centroid);
+  const bool round = spec.shape == ObjectShape::kSphere || spec.shape == ObjectShape::kCylinder ||
+                     spec.shape == ObjectShape::kFrustum;
+  if (round) {
+    const double R = spec.shape == ObjectShape::kSphere ? spec.patchRadius : spec.radius;
+    if (R <= 0.0) return {FrictionPoint{Vec2::Zero(), 1.0}};
+    // rings r1, r2 with (r1 + r2)/2 = 2R/3 and (r1^2 + r2^2)/2 = R^2/2
+    const double radii[2] = {(4.0 - std::sqrt(2.0)) / 6.0 * R, (4.0 + std::sqrt(2.0)) / 6.0 * R};
+    constexpr int kPerRing = 8;
+    for (int ring = 0; ring < 2; ++ring) {
+      for (int i = 0; i < kPerRing; ++i) {
+        const double a = 2.0 * kPi * (i + 0.5 * ring) / kPerRing;
+        points.push_back({radii[ring] * Vec2(std::cos(a), std::sin(a)), 1.0 / (2 * kPerRing)});
+      }
+    }
+    return points;
+  }
+  // polygonal base: a fine grid of samples gathered into about 16 cells shaped like the base's
+  // bounding box
+  const Contour& c = SectionAt(spec, 0.0).outline;
+  const Vec2 lo = c.rowwise().minCoeff(), hi = c.rowwise().maxCoeff();
+  const Vec2 size = hi - lo;
+  constexpr int kCells = 16;
+  const int nx =
+      std::clamp(static_cast<int>(std::lround(std::sqrt(kCells * size.x() / size.y()))), 1, kCells);
+  const int ny = std::max(1, static_cast<int>(std::lround(static_cast<double>(kCells) / nx)));
+  constexpr int kGrid = 160;
+  std::vector<Vec2> sum(static_cast<size_t>(nx * ny), Vec2::Zero());
+  std::vector<int> count(static_cast<size_t>(nx * ny), 0);
+  int total = 0;
+  for (int i = 0; i < kGrid; ++i) {
+    for (int j = 0; j < kGrid; ++j) {
+      const Vec2 p = lo + Vec2((i + 0.5) * size.x() / kGrid, (j + 0.5) * size.y() / kGrid);
+      if (!PointInPolygon(c, p)) continue;
+      const int cell = (i * nx / kGrid) * ny + j * ny / kGrid;
+      sum[cell] += p;
+      ++count[cell];
+      ++total;
+    }
+  }
+  Vec2 mean = Vec2::Zero();
+  for (size_t k = 0; k < sum.size(); ++k) {
+    if (count[k] == 0) continue;
+    const double w = static_cast<double>(count[k]) / total;
+    points.push_back({sum[k] / count[k] - centroid, w});
+    mean += w * points.back().arm;
+  }
+  // exactly balanced about the centroid, and spread so that a pure turn meets mu N r_eff (the
+  // cells' centroids lie nearer the centre than their area does)
+  double spread = 0.0;
+  for (FrictionPoint& p : points) {
+    p.arm -= mean;
+    spread += p.weight * p.arm.norm();
+  }
+  if (spread > 0.0) {
+    for (FrictionPoint& p : points) p.arm *= rEff / spread;
+  }
+  return points;
+}
+
 std::vector<Contour> ConvexDecompose(const Contour& polygon, int maxVertices) {
   assert(maxVertices >= 3 && "pieces need at least 3 vertices");
   const int n = static_cast<int>(polygon.cols());

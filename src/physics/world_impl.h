@@ -98,9 +98,10 @@ struct Push {
 struct ObjectData {
   ObjectSpec spec;
   MassProps props;
-  double top = 0.0;          ///< top height, cm
-  double rEff = 0.0;         ///< table friction lever arm, cm
-  double boundRadius = 0.0;  ///< footprint radius about the local origin, cm
+  double top = 0.0;                        ///< top height, cm
+  double rEff = 0.0;                       ///< table friction lever arm, cm
+  std::vector<FrictionPoint> tablePoints;  ///< table friction spread over the base
+  double boundRadius = 0.0;                ///< footprint radius about the local origin, cm
   CrossSection footprint;
   std::vector<Slice> slices;  ///< layers 0 .. slices.size()-1
   int splitCount = -1;        ///< n in the slices' current mass data M/n
@@ -123,8 +124,12 @@ struct ObjectData {
   bool held = false;
   int particlesOnTop = 0;
   std::vector<Push> pushes;
-  bool sliding = false;   ///< slid on the table in the last substep (kinetic friction)
-  bool spinning = false;  ///< turned on the table in the last substep (kinetic friction)
+  bool sliding = false;  ///< slid or turned on the table in the last substep (kinetic friction)
+  /// the table friction's force and torque about the centre of mass in the last substep, when it
+  /// slid (dyn, dyn cm): the split between resisting the slide and the turn that the layers'
+  /// friction joints take up in the next substep
+  Vec2 slideForce = Vec2::Zero();
+  double slideTorque = 0.0;
 
   // the pose of the local frame, cached at every write-back
   Pose2 pose;
@@ -231,11 +236,9 @@ struct LayeredWorld::Impl {
     Vec2 vel = Vec2::Zero();       ///< object velocity after friction, cm/s
     double omega = 0.0;            ///< object angular velocity after friction, rad/s
     std::vector<Vec2> top;         ///< impulse each resting particle gives the object, g cm/s
-    Vec2 table = Vec2::Zero();     ///< impulse of table friction, g cm/s
-    double spin = 0.0;             ///< angular impulse of table friction, g cm^2/s
+    std::vector<Vec2> table;       ///< impulse of each table friction point, g cm/s
     std::vector<bool> topSliding;  ///< the particle's impulse reached its limit
-    bool tableSliding = false;     ///< table friction reached its limit
-    bool spinSliding = false;      ///< turning friction reached its limit
+    bool tableSliding = false;     ///< a table friction point reached its limit: the object moves
     bool anyTopSliding = false;
   };
   /// The table friction the layer solves already applied to one object: impulse and angular
@@ -245,9 +248,10 @@ struct LayeredWorld::Impl {
     double angular = 0.0;
   };
   /// Projected Gauss-Seidel over the top friction of the particles resting on object oi and its
-  /// table friction (linear and turning), starting from velocity vel0, omega0 (which already
-  /// contain the table impulse applied), and the table's normal force (dyn). With kinetic, the
-  /// contacts that slid in staticPass get kinetic limits.
+  /// table friction points, starting from velocity vel0, omega0 (which already contain the table
+  /// impulse the layers applied, taken out first), and the table's normal force (dyn). With
+  /// kinetic, the top contacts that slid in staticPass get kinetic limits, and the table's points
+  /// all do when the object moved.
   FrictionSolve SolveFriction(int oi, const std::vector<int>& onTop, const Vec2& center,
                               const Vec2& vel0, double omega0, const TableImpulse& applied,
                               double normal, bool kinetic,

@@ -143,6 +143,55 @@ TEST(TableFriction, ASpinningSphereStopsOverItsContactPatch) {
   EXPECT_NEAR(point.Object(0).angularVelocity, omega0, 1e-4 * omega0);
 }
 
+// A fingertip (a ring of 17 particles) pushes a 12 x 2 x 2 cm bar along +y at 3 cm/s into its
+// long side at `offset` from its centre, 0.5 cm past first contact. Returns how far the bar's
+// centre moved along y over how far the pushed point of the bar did.
+double CentreOverPushedPoint(double offset) {
+  PhysicsParams p;
+  LayeredWorld w;
+  MustBuild(w, p, {Box("bar", 30, 23, 12, 2, 2)});
+  const int n = 17;
+  const double r = p.particleRadius;
+  auto ring = [&](const Vec2& c, int i) -> Vec2 {
+    const double a = 2 * kPi * i / n;
+    return c + 0.8 * Vec2(std::cos(a), std::sin(a));
+  };
+  // the ring's lowest body starts 0.3 cm below the bar's lower side (y = 22)
+  const Vec2 start(30 + offset, 22 - 0.8 - r - 0.3);
+  std::vector<PlannedParticle> ps;
+  for (int i = 0; i < n; ++i) ps.push_back(test::Create(100 + i, ring(start, i), ring(start, i)));
+  w.ApplyPlan(Plan(ps));
+  const double speed = 3.0;
+  const int frames = static_cast<int>((0.3 + 0.5) / speed * 60);
+  for (int f = 1; f <= frames; ++f) {
+    std::vector<PlannedParticle> moves;
+    for (int i = 0; i < n; ++i) {
+      moves.push_back(test::Reuse(100 + i, ring(start + Vec2(0, speed * f / 60.0), i)));
+    }
+    w.ApplyPlan(Plan(moves));
+    w.StepFrame();
+  }
+  const ObjectState o = w.Object(0);
+  const Vec2 pushed = o.pose.Apply(Vec2(offset, -1));
+  return (o.centerOfMass.y() - 23) / (pushed.y() - 22);
+}
+
+TEST(TableFriction, AnOffsetPushTurnsTheBarAboutThePointCoulombFrictionGives) {
+  // Quasi-static pushing (Mason 1986) with Coulomb friction spread evenly over the base: a push
+  // along y through x = e turns the bar about a point at x = -c where friction's moment about the
+  // centre over its force equals e. For a thin rod of half-length L: c^2 + 2 e c = L^2; for this
+  // 12 x 2 rectangle, integrated numerically over a 240 x 40 grid: c = 2.97 cm at e = 4.8 cm
+  // (80% of the half-length) and 4.44 cm at e = 2 cm. The centre then moves c / (c + e) of the
+  // pushed point: 0.382 and 0.690. Before, friction held sliding and turning to separate limits:
+  // the bar turned about its centre (0.0) at e = 4.8 and slid without turning (1.0) at e = 2.
+  // 0.03 for the 16 friction points standing for the base, the bar's 3 to 4 degree turn over the
+  // push and its inertia at 3 cm/s.
+  EXPECT_NEAR(CentreOverPushedPoint(4.8), 0.382, 0.03);
+  EXPECT_NEAR(CentreOverPushedPoint(2.0), 0.690, 0.03);
+  // through the centre it slides without turning
+  EXPECT_NEAR(CentreOverPushedPoint(0.0), 1.0, 0.01);
+}
+
 TEST(Coupling, SamePushInLayerZeroAndFourGivesSameTrajectory) {
   PhysicsParams p;
   ObjectSpec tall = Box("tall", 20, 23, 4, 4, 6.0);  // layers 0..5

@@ -76,6 +76,20 @@ Vec2 NearestFootprintPoint(const CrossSection& footprint, const Vec2& p);
 /// 0 makes it a point that spins freely), cm.
 double EffectiveFrictionRadius(const ObjectSpec& spec, const Vec2& centroid);
 
+/// A point of an object's base and its share of the table's normal force.
+struct FrictionPoint {
+  Vec2 arm = Vec2::Zero();  ///< from the centroid, in the local frame, cm
+  double weight = 0.0;      ///< share of the normal force; the shares sum to 1
+};
+
+/// Table friction spread over the base (uniform pressure) as about 16 points: a disc as two rings
+/// of 8 at 0.431 R and 0.902 R (the radii at which equal halves reproduce the disc's first and
+/// second radial moments, 2R/3 and R^2/2), a sphere's contact patch likewise, a polygon as the
+/// area centroids of an even grid of cells. Their weighted arms sum to zero and their weighted
+/// distances to EffectiveFrictionRadius, so a pure slide meets mu N and a pure turn mu N r_eff
+/// exactly. A sphere without a patch is one point.
+std::vector<FrictionPoint> TableFrictionPoints(const ObjectSpec& spec, const Vec2& centroid);
+
 /// Splits a simple counter-clockwise polygon into convex pieces of at most maxVertices vertices
 /// (ear clipping, then greedy merging across shared diagonals, Hertel-Mehlhorn style).
 std::vector<Contour> ConvexDecompose(const Contour& polygon, int maxVertices = 8);
