@@ -218,7 +218,8 @@ void SolveSlidingTable(size_t P, const std::vector<Vec2>& arm, const std::vector
   Eigen::Vector3d t = free;
   Eigen::Matrix3d jacobian;
   Eigen::Vector3d res = residual(t, &jacobian);
-  for (int iter = 0; iter < kSlideNewtonIterations && res.norm() > 1e-12; ++iter) {
+  const double tolerance = 1e-9 * (1.0 + free.norm());
+  for (int iter = 0; iter < kSlideNewtonIterations && res.norm() > tolerance; ++iter) {
     const Eigen::Matrix3d A = Eigen::Matrix3d::Identity() - invMass.asDiagonal() * jacobian;
     const Eigen::Vector3d step = A.partialPivLu().solve(-res);
     double scale = 1.0;
@@ -323,6 +324,26 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
     impulse = total;
   };
   const bool tableSlides = kinetic && staticPass->tableSliding;
+
+  // With nobody on top the impulse that would stop the object decides at once in most cases: it
+  // is held for certain inside the double cone spanned by the pure slide limit mu_s N dt (any
+  // direction) and the pure turn limit mu_s N r_eff dt, which the points' convex limit surface
+  // contains, and it slides for certain beyond either limit, which bound the surface. (A sphere
+  // without a contact patch turns freely: its turn never counts.)
+  if (!kinetic && n == 0) {
+    const double slide = M * r.vel.norm() / (o.spec.tableStatic * normal * dt);
+    const double turn =
+        o.rEff > 0 ? I * std::abs(r.omega) / (o.spec.tableStatic * normal * o.rEff * dt) : 0.0;
+    if (slide + turn <= 1.0) {
+      r.vel.setZero();
+      if (o.rEff > 0) r.omega = 0.0;
+      return r;
+    }
+    if (slide > 1.0 || turn > 1.0) {
+      r.tableSliding = true;
+      return r;
+    }
+  }
 
   double limits = 0.0;
   for (double l : topLimit) limits += l;
