@@ -1,0 +1,2 @@
+proxygrasp_test(tuio osc LIBS PkgConfig::LIBLO)
+proxygrasp_test(tuio decoder)
