@@ -1,2 +1,3 @@
 proxygrasp_test(tuio osc LIBS PkgConfig::LIBLO)
 proxygrasp_test(tuio decoder)
+proxygrasp_test(tuio encoder)
