@@ -188,14 +188,18 @@ void TuioDecoder::DecodeTuio2(const OscMessage& m) {
     ++m_stats.ignored;  // tok, sym, icg, skg, ...: nothing this decoder turns into a contact
     return;
   }
-  // a shape or alv without a frm opens a frame with no id
-  if (!p.open) {
+  // a valid shape or alv without a frm opens a frame with no id
+  const auto openImplicitly = [&p] {
+    if (p.open) return;
     p = Pending();
     p.open = true;
-  }
+  };
 
   if (address == "alv") {
-    if (!ReadAlive(m, 0, p.alive)) return;
+    std::vector<TuioSessionId> alive;
+    if (!ReadAlive(m, 0, alive)) return;
+    openImplicitly();
+    p.alive = std::move(alive);
     p.haveAlive = true;
     Complete(kTuio2);
     return;
@@ -279,6 +283,7 @@ void TuioDecoder::DecodeTuio2(const OscMessage& m) {
                 std::max(kMinSemiAxis, 0.5 * std::abs(a[4].f) * m_params.table.width),
                 std::max(kMinSemiAxis, 0.5 * std::abs(a[5].f) * m_params.table.height), angle);
   }
+  openImplicitly();
   if (!p.late) AddShape(p, id, std::move(shape));
 }
 
