@@ -259,6 +259,17 @@ TEST(TuioDecoder, ANewFrmBeforeAlvDropsTheIncompleteFrame) {
   EXPECT_EQ(f.contacts[0].id, 2);
 }
 
+TEST(TuioDecoder, AMalformedShapeOpensNoFrame) {
+  TuioDecoder d;
+  // a NaN outline sent alone, then a proper frame: one drop, and no incomplete frame
+  const OscMessage bad =
+      Msg("/tuio2/ocg", {I(1), F(0.1), F(std::nan("")), F(0.2), F(0.1), F(0.2), F(0.2)});
+  d.Decode(std::span(&bad, 1), 0.0);
+  One(d, B({Frm(1), Square(2, 0.5, 0.5, 0.1), Alv({2})}));
+  EXPECT_EQ(d.stats()[TuioDrop::kNonFinite], 1u);
+  EXPECT_EQ(d.stats().TotalDropped(), 1u) << d.stats().Summary();
+}
+
 TEST(TuioDecoder, AliveWithoutAShapeWaitsForOne) {
   TuioDecoder d;
   TuioFrame f = One(d, B({Frm(1), Alv({8})}));
