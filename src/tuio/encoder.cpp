@@ -157,7 +157,8 @@ std::vector<OscBundle> TuioEncoder::Encode(int64_t frame, OscTimeTag time,
     }
     sent.push_back(&c);
   }
-  const size_t budget = maxBytes - fixed - InBundle(alv);
+  // room for contacts in each bundle after its frm; alv goes at the end of the last one
+  const size_t budget = maxBytes - fixed;
 
   std::vector<OscBundle> bundles;
   OscBundle current{time, {frm}};
@@ -207,6 +208,10 @@ std::vector<OscBundle> TuioEncoder::Encode(int64_t frame, OscTimeTag time,
     current.messages.push_back(std::move(bnd));
     current.messages.push_back(std::move(ocg));
     used += groupSize;
+  }
+  if (used + InBundle(alv) > budget) {
+    bundles.push_back(std::move(current));
+    current = OscBundle{time, {frm}};
   }
   current.messages.push_back(std::move(alv));
   bundles.push_back(std::move(current));

@@ -223,6 +223,11 @@ TEST(TuioEncoder, ContactsBeyondWhatAlvCanNameAreDroppedAndCounted) {
   EXPECT_GT(e.stats().droppedContacts, 1u);
   const size_t named = bundles.back().messages.back().args.size();
   EXPECT_EQ(named + e.stats().droppedContacts, contacts.size());
+  // bundles are filled: only the last one carries the long alv
+  EXPECT_LT(bundles.size(), named / 3);
+  const std::vector<TuioFrame> frames = DecodeAll(bundles);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].contacts.size(), named);
 }
 
 TEST(TuioEncoder, Tuio11CursorsForOlderClients) {
