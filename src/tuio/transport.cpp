@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <lo/lo.h>
 #include <string>
 
@@ -20,25 +21,37 @@ void OnLoError(int num, const char* msg, const char* where) {
   if (t_pollingDecoder) t_pollingDecoder->CountBadPacket();
 }
 
+// liblo's argument pointers point into the datagram, 4-byte aligned, while lo_arg asks for 8:
+// read each value by copying its bytes rather than through the union
+template <typename T>
+T Load(const lo_arg* a) {
+  T v;
+  std::memcpy(&v, static_cast<const void*>(a), sizeof v);
+  return v;
+}
+
 OscArg FromLo(char type, const lo_arg* a) {
+  const char* text = reinterpret_cast<const char*>(a);
   switch (type) {
     case LO_INT32:
-      return OscArg::Int(a->i);
+      return OscArg::Int(Load<int32_t>(a));
     case LO_INT64:
-      return OscArg::Int64(a->h);
+      return OscArg::Int64(Load<int64_t>(a));
     case LO_FLOAT:
-      return OscArg::Float(a->f);
+      return OscArg::Float(Load<float>(a));
     case LO_DOUBLE:
-      return OscArg::Double(a->d);
+      return OscArg::Double(Load<double>(a));
     case LO_STRING:
-      return OscArg::String(&a->s);
+      return OscArg::String(text);
     case LO_SYMBOL: {
-      OscArg s = OscArg::String(&a->S);
+      OscArg s = OscArg::String(text);
       s.type = 'S';
       return s;
     }
-    case LO_TIMETAG:
-      return OscArg::Time({a->t.sec, a->t.frac});
+    case LO_TIMETAG: {
+      const lo_timetag t = Load<lo_timetag>(a);
+      return OscArg::Time({t.sec, t.frac});
+    }
     default:
       return OscArg::Other(type);
   }

@@ -308,8 +308,13 @@ TEST(TuioTransport, AFloodOfTenThousandPacketsIsSurvived) {
   EXPECT_GT(s.frames, 0u);
   EXPECT_GT(s[TuioDrop::kBadPacket], 0u);
   EXPECT_GT(s[TuioDrop::kNonFinite], 0u);
-  // memory stays flat: nothing grows with the packets (generous: allocator slack)
+  // memory stays flat: nothing grows with the packets (generous: allocator slack). Not under
+  // AddressSanitizer, whose quarantine holds on to freed memory by design
+#if !defined(__SANITIZE_ADDRESS__)
   EXPECT_LT(rss() - rssAfterWarmup, 8L << 20);
+#else
+  (void)rssAfterWarmup;
+#endif
   std::printf("flood: %d datagrams read of %d sent; %s\n", read, kPackets, s.Summary().c_str());
 }
 
