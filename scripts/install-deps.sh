@@ -9,8 +9,9 @@ packages=(
   build-essential cmake pkg-config git clang-format
   # libraries (see docs/architecture.md for where each is used)
   libbox2d-dev libopencv-dev libeigen3-dev libsdl2-dev libtomlplusplus-dev libcli11-dev libimgui-dev
+  liblo-dev
   # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
+  libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth liblo-tools
 )
 
 missing=()

@@ -1,0 +1,5 @@
+proxygrasp_test(tuio osc LIBS PkgConfig::LIBLO)
+proxygrasp_test(tuio decoder)
+proxygrasp_test(tuio encoder)
+proxygrasp_test(tuio transport)
+proxygrasp_test(tuio touchlib_xml)
