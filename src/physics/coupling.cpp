@@ -295,8 +295,7 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
   std::vector<Eigen::Matrix2d> tableMass(P);
   std::vector<double> tableLimit(P);
   for (size_t k = 0; k < P; ++k) {
-    const Vec2& a = o.tablePoints[k].arm;
-    tableArm[k] = Vec2(o.cosA * a.x() - o.sinA * a.y(), o.sinA * a.x() + o.cosA * a.y());
+    tableArm[k] = o.ToTableDirection(o.tablePoints[k].arm);
     tableMass[k] = pointMass(tableArm[k]);
     tableLimit[k] = tableMu * o.tablePoints[k].weight * normal * dt;
   }
@@ -480,8 +479,7 @@ void LayeredWorld::Impl::Couple() {
     o.slideTorque = 0.0;
     if (solve.tableSliding) {
       for (size_t k = 0; k < o.tablePoints.size(); ++k) {
-        const Vec2& a = o.tablePoints[k].arm;
-        const Vec2 arm(o.cosA * a.x() - o.sinA * a.y(), o.sinA * a.x() + o.cosA * a.y());
+        const Vec2 arm = o.ToTableDirection(o.tablePoints[k].arm);
         o.slideForce += solve.table[k] / dt;
         o.slideTorque += Cross(arm, solve.table[k]) / dt;
       }

@@ -144,6 +144,10 @@ struct ObjectData {
     const Vec2 d = p - pose.pos;
     return Vec2(cosA * d.x() + sinA * d.y(), -sinA * d.x() + cosA * d.y());
   }
+  /// A local direction (or arm) turned into the table frame (cached pose).
+  Vec2 ToTableDirection(const Vec2& v) const {
+    return Vec2(cosA * v.x() - sinA * v.y(), sinA * v.x() + cosA * v.y());
+  }
   /// Quick test that a table point may lie over the footprint (cached pose).
   bool MayHold(const Vec2& p) const {
     return (p - pose.pos).squaredNorm() <= boundRadius * boundRadius;
