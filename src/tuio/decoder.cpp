@@ -167,14 +167,7 @@ void TuioDecoder::DecodeTuio2(const OscMessage& m) {
 
   if (address == "frm") {
     // frm f_id [time dim source]
-    if (a.empty()) {
-      ++m_stats[TuioDrop::kTooFewArgs];
-      return;
-    }
-    if (!a[0].IsInt()) {
-      ++m_stats[TuioDrop::kWrongType];
-      return;
-    }
+    if (!StartsWithInt(a)) return;
     // the same frame id again continues a frame split over several bundles
     if (p.open && p.frame == a[0].i) return;
     if (p.open) ++m_stats[TuioDrop::kIncompleteFrame];
@@ -206,14 +199,7 @@ void TuioDecoder::DecodeTuio2(const OscMessage& m) {
   }
 
   // every shape starts with the session id
-  if (a.empty()) {
-    ++m_stats[TuioDrop::kTooFewArgs];
-    return;
-  }
-  if (!a[0].IsInt()) {
-    ++m_stats[TuioDrop::kWrongType];
-    return;
-  }
+  if (!StartsWithInt(a)) return;
   const TuioSessionId id = a[0].i;
   Shape shape;
   if (address == "ocg") {
@@ -324,6 +310,18 @@ bool TuioDecoder::ReadSet11(Profile profile, const OscMessage& m) {
                 std::max(kMinSemiAxis, 0.5 * std::abs(a[6].f) * m_params.table.height), angle);
   }
   AddShape(m_pending[profile], a[1].i, std::move(shape));
+  return true;
+}
+
+bool TuioDecoder::StartsWithInt(const std::vector<OscArg>& a) {
+  if (a.empty()) {
+    ++m_stats[TuioDrop::kTooFewArgs];
+    return false;
+  }
+  if (!a[0].IsInt()) {
+    ++m_stats[TuioDrop::kWrongType];
+    return false;
+  }
   return true;
 }
 

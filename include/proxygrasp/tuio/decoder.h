@@ -75,6 +75,8 @@ class TuioDecoder {
   void DecodeTuio11(Profile profile, const OscMessage& m);
   // reads a TUIO 1.1 set message into a shape; false (counted) when it is malformed
   bool ReadSet11(Profile profile, const OscMessage& m);
+  /// True when the message starts with an int (a frame or session id); otherwise counts the drop.
+  bool StartsWithInt(const std::vector<OscArg>& a);
   bool ReadAlive(const OscMessage& m, size_t first, std::vector<TuioSessionId>& ids);
   void AddShape(Pending& p, TuioSessionId id, Shape shape);
   // checks a normalised coordinate; false (counted) when it is not finite or out of range
