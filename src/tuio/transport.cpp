@@ -1,10 +1,20 @@
 #include "proxygrasp/tuio/transport.h"
 
+#include <algorithm>
+#include <arpa/inet.h>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <lo/lo.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <poll.h>
 #include <string>
+#include <sys/socket.h>
+#include <unistd.h>
+#include <vector>
 
 namespace pg {
 
@@ -113,7 +123,9 @@ double TuioClock() {
 // ---- receiver ----
 
 struct TuioReceiver::Impl {
-  lo_server server = nullptr;
+  int socket = -1;                                        // the UDP socket listened on
+  lo_server server = nullptr;                             // parses the datagrams read from it
+  std::vector<char> datagram = std::vector<char>(65536);  // the largest UDP payload
   TuioDecoder* decoder = nullptr;
   double now = 0.0;
   int depth = 0;     // bundle nesting of the datagram being dispatched
@@ -152,31 +164,63 @@ TuioReceiver::TuioReceiver(const TuioParams& params)
     : m_impl(std::make_unique<Impl>()), m_decoder(params) {}
 
 TuioReceiver::~TuioReceiver() {
-  if (m_impl && m_impl->server) lo_server_free(m_impl->server);
+  if (!m_impl) return;
+  if (m_impl->socket >= 0) close(m_impl->socket);
+  if (m_impl->server) lo_server_free(m_impl->server);
 }
 
 Result<std::unique_ptr<TuioReceiver>> TuioReceiver::Open(int port, const TuioParams& params) {
+  return Open("", port, params);
+}
+
+Result<std::unique_ptr<TuioReceiver>> TuioReceiver::Open(const std::string& address, int port,
+                                                         const TuioParams& params) {
   if (port < 0 || port > 65535)
     return MakeError({}, "TUIO port must be 0 to 65535 (got " + std::to_string(port) + ")");
+  const std::string where =
+      (address.empty() ? std::string("port ") : address + ":") + std::to_string(port);
+  sockaddr_in bound{};
+  bound.sin_family = AF_INET;
+  bound.sin_port = htons(static_cast<uint16_t>(port));
+  bound.sin_addr.s_addr = htonl(INADDR_ANY);
+  if (!address.empty()) {
+    // a numeric address, or a name that resolves to one (localhost)
+    addrinfo hints{};
+    hints.ai_family = AF_INET;
+    hints.ai_socktype = SOCK_DGRAM;
+    addrinfo* found = nullptr;
+    if (getaddrinfo(address.c_str(), nullptr, &hints, &found) != 0 || !found)
+      return MakeError(
+          {}, "cannot listen for TUIO on " + where + ": no IPv4 address \"" + address + "\"");
+    bound.sin_addr = reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr;
+    freeaddrinfo(found);
+  }
+
   std::unique_ptr<TuioReceiver> r(new TuioReceiver(params));
+  Impl& impl = *r->m_impl;
+  impl.socket = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (impl.socket < 0 ||
+      bind(impl.socket, reinterpret_cast<const sockaddr*>(&bound), sizeof bound) != 0)
+    return MakeError({}, "cannot listen for TUIO on UDP " + where + ": " + std::strerror(errno));
+  // liblo parses and dispatches what the socket reads; its own socket (a free port) is not read
   t_lastError.clear();
-  const std::string portText = std::to_string(port);
-  r->m_impl->server =
-      lo_server_new_with_proto(port == 0 ? nullptr : portText.c_str(), LO_UDP, OnLoError);
-  if (!r->m_impl->server)
-    return MakeError({}, "cannot listen for TUIO on UDP port " + portText +
-                             (t_lastError.empty() ? "" : ": " + t_lastError));
+  impl.server = lo_server_new_with_proto(nullptr, LO_UDP, OnLoError);
+  if (!impl.server)
+    return MakeError({}, "cannot set up the OSC parser" +
+                             (t_lastError.empty() ? std::string() : ": " + t_lastError));
   // dispatch bundles as they arrive, whatever their time tag says
-  lo_server_enable_queue(r->m_impl->server, 0, 1);
-  lo_server_add_method(r->m_impl->server, nullptr, nullptr, &Impl::OnMessage, r->m_impl.get());
-  lo_server_add_bundle_handlers(r->m_impl->server, &Impl::OnBundleStart, &Impl::OnBundleEnd,
-                                r->m_impl.get());
-  r->m_impl->decoder = &r->m_decoder;
+  lo_server_enable_queue(impl.server, 0, 1);
+  lo_server_add_method(impl.server, nullptr, nullptr, &Impl::OnMessage, &impl);
+  lo_server_add_bundle_handlers(impl.server, &Impl::OnBundleStart, &Impl::OnBundleEnd, &impl);
+  impl.decoder = &r->m_decoder;
   return r;
 }
 
 int TuioReceiver::port() const {
-  return lo_server_get_port(m_impl->server);
+  sockaddr_in a{};
+  socklen_t size = sizeof a;
+  if (getsockname(m_impl->socket, reinterpret_cast<sockaddr*>(&a), &size) != 0) return -1;
+  return ntohs(a.sin_port);
 }
 
 int TuioReceiver::Poll(double now, int maxPackets) {
@@ -185,9 +229,14 @@ int TuioReceiver::Poll(double now, int maxPackets) {
   t_pollingDecoder = &m_decoder;
   int read = 0;
   while (read < maxPackets) {
-    const int bytes = lo_server_recv_noblock(impl.server, 0);
-    if (bytes == 0) break;
+    const ssize_t bytes = recv(impl.socket, impl.datagram.data(), impl.datagram.size(), 0);
+    if (bytes < 0) break;  // nothing waiting (EAGAIN), or the socket failed
     ++read;
+    if (bytes == 0) {
+      m_decoder.CountBadPacket();
+      continue;
+    }
+    lo_server_dispatch_data(impl.server, impl.datagram.data(), static_cast<size_t>(bytes));
     // a bundle that broke off inside is not decoded (liblo reported it as an error)
     if (impl.depth != 0) {
       impl.depth = 0;
@@ -205,6 +254,18 @@ std::optional<TuioFrame> TuioReceiver::PollFrame(double now, int maxPackets) {
   if (frames.empty()) return std::nullopt;
   if (frames.size() == 1) return std::move(frames.front());
   return MergeTuioFrames(frames);
+}
+
+std::optional<TuioFrame> TuioReceiver::WaitFrame(double timeout, int maxPackets) {
+  const double deadline = TuioClock() + timeout;
+  for (;;) {
+    Poll(TuioClock(), maxPackets);
+    if (m_decoder.HasFrames()) return PollFrame(TuioClock(), maxPackets);
+    const double left = deadline - TuioClock();
+    if (left <= 0.0) return std::nullopt;
+    pollfd waiting{m_impl->socket, POLLIN, 0};
+    poll(&waiting, 1, std::max(1, static_cast<int>(std::ceil(left * 1000.0))));
+  }
 }
 
 // ---- sender ----

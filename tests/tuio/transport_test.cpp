@@ -250,6 +250,43 @@ TEST(TuioTransport, APortInUseIsAnError) {
   EXPECT_FALSE(TuioReceiver::Open(70000).ok());
 }
 
+TEST(TuioTransport, AReceiverListensOnTheAddressItIsGiven) {
+  // the loopback address, by number and by name: a datagram to it arrives
+  for (const char* address : {"127.0.0.1", "localhost"}) {
+    Result<std::unique_ptr<TuioReceiver>> r = TuioReceiver::Open(address, 0);
+    ASSERT_TRUE(r.ok()) << address << ": " << r.error().Format();
+    auto sender = OpenSender(r.value()->port());
+    ASSERT_TRUE(sender);
+    const std::vector<TuioOutContact> c = {Out(3, Circle(Vec2(30, 20), 1, 16))};
+    ASSERT_FALSE(sender->Send(1, c));
+    const std::optional<TuioFrame> f = r.value()->WaitFrame(kWait);
+    ASSERT_TRUE(f) << address;
+    EXPECT_TRUE(Find(*f, 3)) << address;
+  }
+  // an address this machine does not have (TEST-NET-1), and a name that does not resolve
+  Result<std::unique_ptr<TuioReceiver>> foreign = TuioReceiver::Open("192.0.2.1", 0);
+  ASSERT_FALSE(foreign.ok());
+  EXPECT_NE(foreign.error().message.find("cannot listen for TUIO on UDP 192.0.2.1:0"),
+            std::string::npos)
+      << foreign.error().message;
+  Result<std::unique_ptr<TuioReceiver>> unknown = TuioReceiver::Open("no-such-host.invalid", 0);
+  ASSERT_FALSE(unknown.ok());
+  EXPECT_NE(unknown.error().message.find("no IPv4 address \"no-such-host.invalid\""),
+            std::string::npos)
+      << unknown.error().message;
+}
+
+TEST(TuioTransport, WaitFrameWaitsNoLongerThanItIsTold) {
+  auto receiver = OpenReceiver();
+  ASSERT_TRUE(receiver);
+  const double start = TuioClock();
+  EXPECT_FALSE(receiver->WaitFrame(0.05));
+  const double waited = TuioClock() - start;
+  // poll() sleeps at least the time asked (in whole ms); the bound above is scheduling slack
+  EXPECT_GE(waited, 0.049);
+  EXPECT_LT(waited, 0.5);
+}
+
 TEST(TuioTransport, SenderSpecsThatDoNotParseAreErrors) {
   for (const char* spec :
        {"localhost", ":3333", "localhost:", "localhost:0", "localhost:99999", "localhost:33x"}) {

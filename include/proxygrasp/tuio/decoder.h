@@ -39,6 +39,8 @@ class TuioDecoder {
   /// The frames completed since the last call, oldest first. When more than maxQueuedFrames
   /// waited, the oldest were merged (MergeTuioFrames), so the queue never grows without bound.
   std::vector<TuioFrame> TakeFrames();
+  /// True when a completed frame waits to be taken.
+  bool HasFrames() const { return !m_frames.empty(); }
 
   /// Forgets every contact and partial frame; keeps the parameters and the counts.
   void Reset();
@@ -109,5 +111,15 @@ TuioFrame MergeTuioFrames(std::span<const TuioFrame> frames);
 /// are often "immediately"), and returns every frame it made, in order.
 std::vector<TuioFrame> ReplayTuio(std::span<const OscBundle> bundles, const TuioParams& params,
                                   double interval = 1.0 / 60.0);
+
+/// Where a recorded bundle arrives, s from the first: its time tag less the first's when every
+/// tag is a time (not "immediately") and they never run backwards; else k * interval.
+std::vector<double> ReplayArrivals(std::span<const OscBundle> bundles, double interval);
+
+/// Decodes a recorded stream with ReplayArrivals' times, then lets the decoder's timeout expire
+/// after the last bundle so that contacts still live at the end lift. The decoder's counts go to
+/// `stats` when given.
+std::vector<TuioFrame> ReplayRecording(std::span<const OscBundle> bundles, const TuioParams& params,
+                                       double interval, TuioStats* stats = nullptr);
 
 }  // namespace pg

@@ -25,6 +25,11 @@ class TuioReceiver {
   /// Listens on UDP `port` of every interface; port 0 takes a free port (see port()). An Error
   /// when the port cannot be bound.
   static Result<std::unique_ptr<TuioReceiver>> Open(int port, const TuioParams& params = {});
+  /// Listens on UDP `port` of one IPv4 address (a loopback or LAN address, or a name such as
+  /// localhost); "" is every interface. An Error when the address does not resolve or the port
+  /// cannot be bound there.
+  static Result<std::unique_ptr<TuioReceiver>> Open(const std::string& address, int port,
+                                                    const TuioParams& params = {});
   ~TuioReceiver();
   TuioReceiver(const TuioReceiver&) = delete;
   TuioReceiver& operator=(const TuioReceiver&) = delete;
@@ -40,6 +45,10 @@ class TuioReceiver {
   /// Poll, then the frames completed since the last call as one (MergeTuioFrames): the contours
   /// to apply this frame and the sessions that lifted. nullopt when no frame completed.
   std::optional<TuioFrame> PollFrame(double now, int maxPackets = 4096);
+
+  /// PollFrame, waiting up to `timeout` s for a frame to complete (a caller that paces itself by
+  /// its input). nullopt when none completed in that time.
+  std::optional<TuioFrame> WaitFrame(double timeout, int maxPackets = 4096);
 
   /// The frames completed since the last call, oldest first.
   std::vector<TuioFrame> TakeFrames() { return m_decoder.TakeFrames(); }
