@@ -1,11 +1,23 @@
 #include "proxygrasp/run/frame_input.h"
 
+#include "proxygrasp/level/level.h"
 #include "proxygrasp/run/simulation.h"
+
+#include <charconv>
 
 namespace pg {
 
 FrameInput FrameInput::Script() {
   return FrameInput(Kind::kScript);
+}
+
+Result<FrameInput> FrameInput::ForLevel(const Level& level) {
+  const pg::Script& script = level.script;
+  if (script.tuioBundles) return Tuio(TuioStream::Replay(*script.tuioBundles, script.tuio));
+  if (script.recording.empty()) return Script();
+  Result<FrameInput> input = Open("video:" + script.recording);
+  if (!input.ok()) return MakeError({script.recording}, input.error().Format());
+  return input;
 }
 
 FrameInput FrameInput::Shapes() {
@@ -16,13 +28,44 @@ FrameInput FrameInput::Contours() {
   return FrameInput(Kind::kContours);
 }
 
+namespace {
+
+// tuio:PORT or tuio:ADDRESS:PORT
+Result<std::unique_ptr<TuioStream>> ListenTuio(const std::string& spec) {
+  const std::string rest = spec.substr(5);
+  const size_t colon = rest.rfind(':');
+  const std::string address = colon == std::string::npos ? std::string() : rest.substr(0, colon);
+  const std::string portText = colon == std::string::npos ? rest : rest.substr(colon + 1);
+  int port = -1;
+  const auto [end, ec] = std::from_chars(portText.data(), portText.data() + portText.size(), port);
+  if (ec != std::errc() || end != portText.data() + portText.size() || port < 0 || port > 65535 ||
+      (colon != std::string::npos && address.empty()))
+    return MakeError(
+        {}, "expected tuio:PORT or tuio:ADDRESS:PORT, the port 0 to 65535 (got \"" + spec + "\")");
+  return TuioStream::Listen(address, port);
+}
+
+}  // namespace
+
 Result<FrameInput> FrameInput::Open(const std::string& spec, bool keepMissing) {
+  if (spec.rfind("tuio:", 0) == 0) {
+    Result<std::unique_ptr<TuioStream>> stream = ListenTuio(spec);
+    if (!stream.ok()) return stream.error();
+    return Tuio(std::move(stream.value()));
+  }
   Result<std::unique_ptr<FrameSource>> source = OpenFrameSource(spec);
   if (source.ok()) return FromSource(std::move(source.value()), spec);
   if (!keepMissing) return source.error();
   FrameInput input(Kind::kSource);
   input.m_spec = spec;
   input.m_lastError = source.error().Format();
+  return input;
+}
+
+FrameInput FrameInput::Tuio(std::unique_ptr<TuioStream> stream) {
+  FrameInput input(Kind::kTuio);
+  input.m_spec = stream->Describe();
+  input.m_tuio = std::move(stream);
   return input;
 }
 
@@ -54,6 +97,14 @@ Result<FrameStatus> FrameInput::Step(Simulation& sim) {
     case Kind::kContours:
       status = sim.StepContours(m_contours);
       break;
+    case Kind::kTuio: {
+      TuioParams tuio;
+      tuio.table = sim.params().table;
+      const std::optional<TuioFrame> frame = m_tuio->Next(sim.Time(), sim.FrameDuration(), tuio);
+      status = sim.StepContacts(
+          m_tuioTracker.Step(frame ? &*frame : nullptr, sim.params().sensing.spacing));
+      break;
+    }
     case Kind::kSource: {
       if (!m_source) {
         if (m_lastError.empty()) m_lastError = m_spec + ": no input";
@@ -121,6 +172,8 @@ std::string FrameInput::Describe() const {
       return "shapes";
     case Kind::kContours:
       return "contours";
+    case Kind::kTuio:
+      return m_tuio->Describe();
     case Kind::kSource:
       break;
   }

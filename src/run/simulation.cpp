@@ -3,7 +3,10 @@
 #include "proxygrasp/core/timer.h"
 #include "proxygrasp/level/script.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace pg {
@@ -110,6 +113,51 @@ MaybeError Simulation::StepContours(const ContourFrame& contours) {
   return std::nullopt;
 }
 
+MaybeError Simulation::StepContacts(const ContactSet& contacts) {
+  m_shapes.clear();
+  m_shapeScript.clear();
+  m_image.release();
+  m_contours.index = m_frame;
+  m_contours.time = Time();
+  m_contours.blobs.clear();
+  for (const Contact& c : contacts.contacts) {
+    if (c.state != ContactState::kLifted) m_contours.blobs.push_back(c.blob);
+  }
+  m_contours.tableImage = TableImage();
+  if (m_params.proxies.mode == ProxyMode::kInstant) FillTableImage();
+  FrameStats stats;
+  stats.frame = m_frame;
+  stats.time = Time();
+  ContactSet set = contacts;
+  set.frame = m_frame;
+  set.time = stats.time;
+  ProcessContours(stats, 0.0, &set);
+  return std::nullopt;
+}
+
+void Simulation::FillTableImage() {
+  // full contact inside every contour, on the grid sensing would sample (SensingParams)
+  TableImage& t = m_contours.tableImage;
+  t.cmPerPixel = m_params.sensing.tableCmPerPixel;
+  t.origin = Vec2::Zero();
+  const int cols = static_cast<int>(std::ceil(m_params.table.width / t.cmPerPixel));
+  const int rows = static_cast<int>(std::ceil(m_params.table.height / t.cmPerPixel));
+  t.image = cv::Mat::zeros(rows, cols, CV_8UC1);
+  constexpr int kShift = 4;  // sub-pixel bits of the polygon vertices
+  constexpr double kScale = 1 << kShift;
+  std::vector<std::vector<cv::Point>> polygons;
+  for (const Blob& b : m_contours.blobs) {
+    std::vector<cv::Point>& poly = polygons.emplace_back();
+    for (Eigen::Index k = 0; k < b.contour.cols(); ++k) {
+      // pixel (u, v) covers origin + (u + 0.5, v + 0.5) cmPerPixel: its centre is at u + 0.5
+      const Vec2 p = b.contour.col(k);
+      poly.emplace_back(static_cast<int>(std::lround((p.x() / t.cmPerPixel - 0.5) * kScale)),
+                        static_cast<int>(std::lround((p.y() / t.cmPerPixel - 0.5) * kScale)));
+    }
+  }
+  if (!polygons.empty()) cv::fillPoly(t.image, polygons, cv::Scalar(255), cv::LINE_8, kShift);
+}
+
 MaybeError Simulation::Process(const cv::Mat& frame) {
   FrameStats stats;
   stats.frame = m_frame;
@@ -125,14 +173,14 @@ MaybeError Simulation::Process(const cv::Mat& frame) {
   return std::nullopt;
 }
 
-void Simulation::ProcessContours(FrameStats& stats, double senseMs) {
+void Simulation::ProcessContours(FrameStats& stats, double senseMs, const ContactSet* tracked) {
   const bool instant = m_params.proxies.mode == ProxyMode::kInstant;
   stats.senseMs = senseMs;
   Stopwatch total;
 
   // tracking: stable contact ids
   Stopwatch watch;
-  m_contacts = m_tracker.Step(m_contours);
+  m_contacts = tracked ? *tracked : m_tracker.Step(m_contours);
   stats.trackMs = watch.Ms();
   AttributeContacts();
 

@@ -71,6 +71,10 @@ MaybeError TraceWriter::Open(const std::string& dir, const std::string& videoPat
 MaybeError TraceWriter::Write(const Simulation& sim) {
   if (!IsOpen()) return MakeError({}, "the trace is not open");
   if (m_recorder.IsOpen()) {
+    if (sim.cameraImage().empty())
+      return MakeError({},
+                       "cannot record camera frames: this input (TUIO contacts or contours) "
+                       "brings none");
     if (MaybeError s = m_recorder.Write(sim.cameraImage())) return s;
   }
   // each frame's rows reach the file before the next frame: a run that is stopped keeps them

@@ -6,6 +6,7 @@ proxygrasp_test(run plan)
 proxygrasp_test(run overrides)
 proxygrasp_test(run runner)
 proxygrasp_test(run recording)
+proxygrasp_test(run tuio_input)
 
 # every level in levels/ is a test, run through the same runner as `proxygrasp run`
 file(GLOB PROXYGRASP_LEVELS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/levels/*.toml)

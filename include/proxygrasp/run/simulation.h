@@ -86,6 +86,11 @@ class Simulation {
   MaybeError StepImage(const cv::Mat& frame);
   /// One frame whose contours (table cm) were sensed elsewhere: tracking onwards.
   MaybeError StepContours(const ContourFrame& contours);
+  /// One frame whose contacts were sensed and tracked elsewhere (a tracker speaking TUIO): their
+  /// ids are kept, the tracking stage is skipped, proxies and physics run. Lifted contacts carry
+  /// their last blob. In instant mode the contours are filled into the table image the instant
+  /// proxies sample.
+  MaybeError StepContacts(const ContactSet& contacts);
 
   /// The size of the camera images the sensor takes, pixels ([camera] width and height).
   cv::Size CameraSize() const { return {m_params.camera.width, m_params.camera.height}; }
@@ -122,9 +127,12 @@ class Simulation {
 
  private:
   MaybeError Process(const cv::Mat& frame);
-  // tracking onwards, once m_contours holds the frame's contours
-  void ProcessContours(FrameStats& stats, double senseMs);
+  // tracking onwards, once m_contours holds the frame's contours; with `tracked`, those contacts
+  // instead of the tracker's
+  void ProcessContours(FrameStats& stats, double senseMs, const ContactSet* tracked = nullptr);
   void AttributeContacts();
+  // fills m_contours.tableImage with the blobs' contours at full contact (instant mode)
+  void FillTableImage();
 
   Level m_level;
   LevelParams m_params;
