@@ -78,5 +78,6 @@ function(proxygrasp_bench name)
   target_link_libraries(${target} PRIVATE ${ARG_LIBS} benchmark::benchmark proxygrasp_options)
   target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/include
                                                ${CMAKE_CURRENT_SOURCE_DIR})
+  target_compile_definitions(${target} PRIVATE PROXYGRASP_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR})
 endfunction()

@@ -299,6 +299,12 @@ MaybeError App::Impl::Adopt(Level next, const std::string& path) {
 
 MaybeError App::Impl::StartRun(const Level& runLevel, const LevelParams& runParams) {
   if (MaybeError s = sim.Start(runLevel, runParams)) return s;
+  // the level's own input (its script, recording or TUIO stream) starts again with the run
+  if (input == InputKind::kScript) {
+    Result<FrameInput> levelInput = FrameInput::ForLevel(runLevel);
+    if (!levelInput.ok()) return levelInput.error();
+    frames = std::move(levelInput.value());
+  }
   StopRecording();
   view.Reset();
   mouse.Clear();
@@ -388,6 +394,13 @@ MaybeError App::Impl::SetupInput() {
       noInput = true;
       runError = frames.LastError();
     }
+  } else if (spec.rfind("tuio:", 0) == 0) {
+    // contacts from another tracker; the window's frame rate paces the run, so it never waits
+    input = InputKind::kTuio;
+    sourceSpec = spec;
+    Result<FrameInput> tuio = FrameInput::Open(spec);
+    if (!tuio.ok()) return MakeError({}, "--input " + spec + ": " + tuio.error().Format());
+    frames = std::move(tuio.value());
   } else if (spec.rfind("video:", 0) == 0) {
     input = InputKind::kVideo;
     sourceSpec = spec;
@@ -395,8 +408,8 @@ MaybeError App::Impl::SetupInput() {
     if (!video.ok()) return MakeError({}, "--input " + spec + ": " + video.error().Format());
     frames = std::move(video.value());
   } else {
-    return MakeError({},
-                     "--input " + spec + ": expected camera:N, video:FILE, script, mouse or touch");
+    return MakeError({}, "--input " + spec +
+                             ": expected camera:N, video:FILE, tuio:PORT, script, mouse or touch");
   }
   return std::nullopt;
 }
@@ -629,6 +642,8 @@ void App::Impl::StepInput() {
     case InputKind::kTouch:
       frames.SetShapes(touch.Shapes());
       break;
+    case InputKind::kTuio:
+      break;
     case InputKind::kCamera:
     case InputKind::kVideo: {
       // a lost or missing source shows "no input" and is retried, never fatal
@@ -836,6 +851,7 @@ bool App::Tick() {
   std::string status = std::string("input: ") + kInputKindNames[static_cast<int>(a.input)];
   if (a.input == InputKind::kCamera || a.input == InputKind::kVideo)
     status += a.noInput ? " - no input, retrying" : " (" + a.sourceSpec + ")";
+  if (const TuioStream* tuio = a.frames.tuio()) status += " (" + tuio->Status() + ")";
   if (a.paused) status += "   PAUSED";
   if (a.recorder.IsOpen()) status += "   REC " + a.recordDir;
   if (!a.message.empty() &&

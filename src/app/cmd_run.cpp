@@ -17,6 +17,7 @@ struct RunArgs {
   std::string mode;
   std::string traceDir;
   std::string record;
+  std::string input;  // frames from here instead of each level's script
   int64_t frames = -1;
   bool profile = false;
   std::string video;  // draw the first run into this video (one level only)
@@ -29,6 +30,7 @@ int RunLevels(const RunArgs& args) {
   options.frames = args.frames;
   options.traceDir = args.traceDir;
   options.record = args.record;
+  options.input = args.input;
   if (!args.record.empty() && args.levels.size() != 1) {
     std::cerr << "proxygrasp run: --record " << args.record << ": record one level at a time\n";
     return kExitBadInput;
@@ -108,6 +110,9 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--show", args.show,
                   "Overlays of --video and --png: forces,successors,camera,nohud,layer=N");
   cmd->add_flag("--profile", args.profile, "Print median and p99 milliseconds per stage");
+  cmd->add_option("--input", args.input,
+                  "Take every run's frames from here instead of the level's script: tuio:PORT or "
+                  "tuio:ADDRESS:PORT (TUIO over UDP), or a frame source (video:FILE, camera:N)");
   cmd->add_option("--record", args.record,
                   "Record the first run's camera frames to FILE (lossless .mkv) and its trace "
                   "into FILE's name without extension + _trace/");

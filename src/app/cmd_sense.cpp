@@ -30,9 +30,10 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// The input of `sense` and the level it runs: a level file (*.toml) is its script drawn by the
-// synthetic camera for the script's duration, with the level's parameters; every other spec is a
-// frame source (OpenFrameSource) on an empty table with the default parameters.
+// The input of `sense` and the level it runs: a level file (*.toml) is its input (the script drawn
+// by the synthetic camera, its recording or its TUIO stream) for the script's duration, with the
+// level's parameters; every other spec is a frame source (OpenFrameSource) or a TUIO port
+// (tuio:PORT, tuio:ADDRESS:PORT) on an empty table with the default parameters.
 struct SenseInput {
   Level level;
   FrameInput frames = FrameInput::Script();
@@ -45,6 +46,9 @@ Result<SenseInput> OpenSenseInput(const std::string& spec) {
     Result<Level> loaded = LoadLevel(spec);
     if (!loaded.ok()) return loaded.error();
     input.level = std::move(loaded.value());
+    Result<FrameInput> frames = FrameInput::ForLevel(input.level);
+    if (!frames.ok()) return frames.error();
+    input.frames = std::move(frames.value());
     input.frameCount = static_cast<int64_t>(
         std::ceil(input.level.script.duration * input.level.params.physics.frameRate - 1e-9));
     return input;
@@ -125,8 +129,9 @@ int RunSense(const SenseOptions& o) {
   if (!o.calibration.empty()) params.sensing.calibration = o.calibration;
 
   // sensing and tracking only; a source's first frame fixes the image size the sensor takes, and
-  // real frames get no synthetic background
+  // real frames get no synthetic background; a script or TUIO takes the level's camera size
   const bool script = in.frames.kind() == FrameInput::Kind::kScript;
+  const bool imageless = script || in.frames.Imageless();
   SimulationOptions setup;
   setup.stages = RunStages::kThroughTracking;
   setup.cameraBackground = script;
@@ -149,14 +154,17 @@ int RunSense(const SenseOptions& o) {
   constexpr int kReopenAttempts = 5;
   while (limit <= 0 || index < limit) {
     // the run starts with the first frame: its size is the camera size the sensor takes
-    Result<FrameStatus> stepped = script ? FrameStatus::kOk : in.frames.Peek();
+    Result<FrameStatus> stepped = imageless ? FrameStatus::kOk : in.frames.Peek();
     if (!started && stepped.ok() && stepped.value() == FrameStatus::kOk) {
       const cv::Size size =
-          script ? cv::Size(params.camera.width, params.camera.height) : in.frames.PeekedSize();
+          imageless ? cv::Size(params.camera.width, params.camera.height) : in.frames.PeekedSize();
       if (MaybeError s = start(size)) {
         std::cerr << me << s->Format() << "\n";
         return kExitBadInput;
       }
+      // a live TUIO stream paces the frames: each waits up to a frame for the sender's
+      TuioStream* tuio = in.frames.tuio();
+      if (tuio && tuio->live()) tuio->SetWait(sim.FrameDuration());
     }
     if (stepped.ok() && stepped.value() == FrameStatus::kOk) stepped = in.frames.Step(sim);
     if (!stepped.ok()) {
@@ -199,6 +207,8 @@ int RunSense(const SenseOptions& o) {
     ++index;
   }
   std::cout.flush();
+  // what a TUIO stream brought, and what it dropped
+  if (const TuioStream* tuio = in.frames.tuio()) std::cerr << me << tuio->Status() << "\n";
   if (!o.preview.empty() && (!started || !WritePreview(sim, o.preview))) {
     std::cerr << me << "cannot write the sensing preview " << o.preview << "\n";
     return kExitFailed;
@@ -219,7 +229,8 @@ void AddSenseCommand(CLI::App& app, int& exitCode) {
   static SenseOptions options;
   cmd->add_option("INPUT", options.input,
                   "camera:N, /dev/videoN, video:FILE or a video file, folder:DIR or a directory, "
-                  "synthetic:fingers or synthetic:hands")
+                  "synthetic:fingers or synthetic:hands, tuio:PORT or tuio:ADDRESS:PORT (TUIO "
+                  "over UDP), or a level file (*.toml)")
       ->required();
   cmd->add_option("--calibration", options.calibration,
                   "calibration YAML (proxygrasp calibrate); without it the image maps linearly "

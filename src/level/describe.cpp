@@ -119,6 +119,9 @@ void DescribeScript(Script& s, ParamVisitor& v) {
             "how contacts move between keyframes");
   v.Text("recording", s.recording,
          "a recorded video that replaces the contacts, relative to this file");
+  v.Text("tuio", s.tuio,
+         "a recorded TUIO stream (touchlib XML) whose contacts replace the script's, relative to "
+         "this file");
 }
 
 void DescribeScriptContact(ScriptContact& c, ParamVisitor& v) {

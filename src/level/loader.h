@@ -97,6 +97,7 @@ class Loader {
   // [script] recording: a video file, relative to the level file that names it, that exists and
   // holds frames; it replaces the contacts
   static MaybeError ReadRecording(const toml::table& t, Level& level);
+  static MaybeError ReadTuio(const toml::table& t, Level& level);
 
   MaybeError ReadContact(const toml::table& t, const Script& script, ScriptContact& contact);
 

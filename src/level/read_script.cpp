@@ -5,6 +5,8 @@
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/sensing/recorder.h"
+#include "proxygrasp/tuio/decoder.h"
+#include "proxygrasp/tuio/touchlib_xml.h"
 
 #include <algorithm>
 #include <cmath>
@@ -29,6 +31,7 @@ MaybeError Loader::BuildScript(const toml::table& root, Level& level) {
     if (MaybeError s = Earliest(errors)) return s;
     if (t->contains("duration")) duration = script.duration;
     if (MaybeError s = ReadRecording(*t, level)) return s;
+    if (MaybeError s = ReadTuio(*t, level)) return s;
 
     // contacts
     MaybeError s =
@@ -48,6 +51,11 @@ MaybeError Loader::BuildScript(const toml::table& root, Level& level) {
   const double last = LastKeyframeTime(script);
   if (!duration && !script.recording.empty()) {
     script.duration = static_cast<double>(script.recordingFrames) / level.params.physics.frameRate;
+  } else if (!duration && script.tuioBundles) {
+    // the stream's last bundle, the timeout that lifts what is still down, then time to settle
+    const std::vector<double> arrivals =
+        ReplayArrivals(*script.tuioBundles, 1.0 / level.params.physics.frameRate);
+    script.duration = arrivals.back() + TuioParams().timeout + kScriptSettleTime;
   } else if (!duration) {
     script.duration = last + kScriptSettleTime;
   } else if (*duration < last) {
@@ -91,6 +99,37 @@ MaybeError Loader::ReadRecording(const toml::table& t, Level& level) {
   if (frames == 0) return MakeError(at, "recording '" + script.recording + "' holds no frames");
   script.recording = path;
   script.recordingFrames = frames;
+  return std::nullopt;
+}
+
+// [script] tuio: a recorded TUIO stream in touchlib XML, relative to the level file that names
+// it, read whole here so that a broken file is an error at load; it replaces the contacts and a
+// video recording
+MaybeError Loader::ReadTuio(const toml::table& t, Level& level) {
+  Script& script = level.script;
+  if (script.tuio.empty()) {
+    if (t.contains("tuio")) return MakeError(ValueLoc(t, "tuio"), "tuio is empty");
+    return std::nullopt;
+  }
+  const SourceLoc at = ValueLoc(t, "tuio");
+  if (t.contains("contacts"))
+    return MakeError(at, "a TUIO stream replaces the script's contacts: give one or the other");
+  if (!script.recording.empty())
+    return MakeError(at, "a TUIO stream and a video recording are both inputs: give one");
+  const fs::path name(script.tuio);
+  const std::string path =
+      name.is_absolute() ? name.string()
+                         : (fs::path(at.file).parent_path() / name).lexically_normal().string();
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    return MakeError(at, "TUIO stream '" + script.tuio + "' not found (looked for " + path + ")");
+  Result<std::vector<OscBundle>> read = ReadTouchlibXml(path);
+  if (!read.ok())
+    return MakeError(at, "TUIO stream '" + script.tuio + "': " + read.error().Format());
+  if (read.value().empty())
+    return MakeError(at, "TUIO stream '" + script.tuio + "' holds no packets");
+  script.tuio = path;
+  script.tuioBundles = std::make_shared<const std::vector<OscBundle>>(std::move(read.value()));
   return std::nullopt;
 }
 

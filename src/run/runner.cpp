@@ -15,14 +15,6 @@ namespace {
 constexpr double kHistogramMinMs = 1e-4;
 const double kHistogramStep = std::log(1.02);
 
-// a level's frames come from its script, or from its recording
-Result<FrameInput> OpenInput(const Level& level) {
-  if (level.script.recording.empty()) return FrameInput::Script();
-  Result<FrameInput> input = FrameInput::Open("video:" + level.script.recording);
-  if (!input.ok()) return MakeError({level.script.recording}, input.error().Format());
-  return input;
-}
-
 // the trace folder of one run: the folder itself, or a sub-folder per run when there are several
 std::string RunTraceDir(const RunOptions& options, const std::string& runName, size_t runs) {
   if (options.traceDir.empty()) return "";
@@ -46,9 +38,11 @@ Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptio
       options.frames >= 0
           ? options.frames
           : static_cast<int64_t>(std::ceil(level.script.duration / frameDuration - 1e-9));
-  Result<FrameInput> opened = OpenInput(level);
+  Result<FrameInput> opened =
+      options.input.empty() ? FrameInput::ForLevel(level) : FrameInput::Open(options.input);
   if (!opened.ok()) return opened.error();
   FrameInput& input = opened.value();
+  if (TuioStream* tuio = input.tuio(); tuio && tuio->live()) tuio->SetWait(frameDuration);
 
   // traces stream to disk as the run goes: the trace folder, and the recording with its own
   TraceWriter trace;

@@ -504,4 +504,39 @@ std::vector<TuioFrame> ReplayTuio(std::span<const OscBundle> bundles, const Tuio
   return frames;
 }
 
+std::vector<double> ReplayArrivals(std::span<const OscBundle> bundles, double interval) {
+  std::vector<double> arrivals(bundles.size());
+  bool timed = !bundles.empty();
+  for (size_t k = 0; k < bundles.size() && timed; ++k) {
+    const OscTimeTag& t = bundles[k].time;
+    timed = !(t == OscTimeTag{0, 1});
+    if (timed && k > 0) timed = t.ToSeconds() >= bundles[k - 1].time.ToSeconds();
+  }
+  for (size_t k = 0; k < bundles.size(); ++k)
+    arrivals[k] = timed ? bundles[k].time.ToSeconds() - bundles.front().time.ToSeconds()
+                        : static_cast<double>(k) * interval;
+  return arrivals;
+}
+
+std::vector<TuioFrame> ReplayRecording(std::span<const OscBundle> bundles, const TuioParams& params,
+                                       double interval, TuioStats* stats) {
+  const std::vector<double> arrivals = ReplayArrivals(bundles, interval);
+  TuioDecoder decoder(params);
+  std::vector<TuioFrame> frames;
+  auto take = [&] {
+    for (TuioFrame& f : decoder.TakeFrames()) frames.push_back(std::move(f));
+  };
+  for (size_t k = 0; k < bundles.size(); ++k) {
+    decoder.Decode(bundles[k], arrivals[k]);
+    take();
+  }
+  // the stream ends: what is still live lifts once the timeout has passed, as it would live
+  if (!arrivals.empty()) {
+    decoder.Expire(arrivals.back() + params.timeout + interval);
+    take();
+  }
+  if (stats) *stats = decoder.stats();
+  return frames;
+}
+
 }  // namespace pg

@@ -21,16 +21,17 @@ namespace pg {
 inline constexpr const char* kDefaultLevel = "levels/demo_sort.toml";
 
 /// What drives the pipeline.
-enum class InputKind { kCamera, kVideo, kScript, kMouse, kTouch };
+enum class InputKind { kCamera, kVideo, kScript, kMouse, kTouch, kTuio };
 /// Names of InputKind values, in enum order.
-inline constexpr const char* kInputKindNames[] = {"camera", "video", "script", "mouse", "touch"};
+inline constexpr const char* kInputKindNames[] = {"camera", "video", "script",
+                                                  "mouse",  "touch", "tuio"};
 
 /// How the app starts.
 struct AppOptions {
   std::string level;              ///< the level file
   std::vector<std::string> sets;  ///< "section.key=value" overrides, kept across reloads
-  /// "camera:N", "video:FILE", "script", "mouse" or "touch"; "" takes camera 0 when it opens and
-  /// the mouse otherwise.
+  /// "camera:N", "video:FILE", "script", "mouse", "touch", or "tuio:PORT" / "tuio:ADDRESS:PORT"
+  /// (TUIO over UDP); "" takes camera 0 when it opens and the mouse otherwise.
   std::string input;
   bool fullscreen = false;         ///< full screen (desktop resolution) on `display`
   int display = 0;                 ///< display index for the window or full screen

@@ -5,8 +5,10 @@
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/core/geometry.h"
 #include "proxygrasp/sensing/types.h"
+#include "proxygrasp/tuio/osc.h"
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +55,12 @@ struct Script {
   /// an absolute or level-relative path resolved by the loader; "" renders the contacts.
   std::string recording;
   int64_t recordingFrames = 0;  ///< frames in the recording, counted by the loader
+  /// A recorded TUIO stream (touchlib XML: proxygrasp's own `--tuio-out file:PATH` or a real
+  /// table's) whose contacts replace the script's, as an absolute or level-relative path resolved
+  /// by the loader; "" when there is none.
+  std::string tuio;
+  /// Its packets, read by the loader; shared, as the level is copied into each run.
+  std::shared_ptr<const std::vector<OscBundle>> tuioBundles;
   SourceLoc loc;
 };
 

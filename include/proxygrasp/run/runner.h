@@ -28,6 +28,10 @@ struct RunOptions {
   /// Record the first run's camera frames to this video (FFV1 .mkv) and its trace into
   /// RecordingTraceDir(record); "" records nothing.
   std::string record;
+  /// Where every run's frames come from instead of the level's script (FrameInput::Open: a frame
+  /// source, or tuio:PORT / tuio:ADDRESS:PORT); "" takes the level's own input. A live TUIO stream
+  /// paces the run: each frame waits up to a frame's time for the sender's.
+  std::string input;
 };
 
 /// Milliseconds per frame of one stage, as a histogram of constant size: its percentiles are
