@@ -1,5 +1,7 @@
 #include "proxygrasp/run/tuio_input.h"
 
+#include "real_data.h"
+
 #include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/simulation.h"
 #include "proxygrasp/run/trace.h"
@@ -382,6 +384,81 @@ TEST(TuioInput, AFloodOfTenThousandPacketsASecondForTwoSecondsIsCountedAndSurviv
 #else
   (void)rssAfterWarmup;
 #endif
+}
+
+// sessions of ../shared/real/touchlib/tuio_tableData.xml, read from the XML by hand: the packet it
+// first appears in alive, the last such packet, the packet whose alive it has left, and its first
+// and last normalised position (the same sessions tests/tuio/touchlib_xml_test.cpp checks)
+struct CheckedSession {
+  TuioSessionId id;
+  int first, last, lift;
+  double x0, y0, x1, y1;
+};
+constexpr CheckedSession kTableData[] = {
+    {9, 2, 42, 43, 0.31734723, 0.3147611, 0.32947665, 0.59706515},
+    {10, 85, 132, 133, 0.5076447, 0.20842105, 0.52693856, 0.6198044},
+    {16, 203, 229, 230, 0.29515514, 0.49067765, 0.4307044, 0.6411433},
+    {17, 205, 229, 230, 0.75292563, 0.46972466, 0.5867385, 0.6402787},
+};
+
+TEST(TuioInput, ATouchlibRecordingPlaysThroughThePipelineWithItsSessionsAsContacts) {
+  // a real table's TUIO 1.0 stream as a level's input: packet k arrives at k frames (its time
+  // tags are all "immediately"), so simulation frame k holds packet k's cursors. Each cursor is
+  // a contact whose id is its session id, new in the frame it first appears, at the XML's
+  // position (a 0.8 cm circle of 16 points, resampled at 0.3 cm: its centroid is the cursor's
+  // within 1e-3 cm), lifted in the frame whose alive has left it, and it gets particles
+  const std::string dir = test::RealDataDir();
+  if (dir.empty()) GTEST_SKIP() << test::kNoRealData;
+  const std::string file = dir + "/touchlib/tuio_tableData.xml";
+  const Level level =
+      test::ParseOrFail("[script]\ntuio = \"" + file + "\"\n", "touchlib_level.toml");
+  ASSERT_TRUE(level.script.tuioBundles);
+  ASSERT_EQ(level.script.tuioBundles->size(), 373u);
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  Result<FrameInput> opened = FrameInput::ForLevel(level);
+  ASSERT_TRUE(opened.ok());
+  FrameInput& input = opened.value();
+  ASSERT_EQ(input.kind(), FrameInput::Kind::kTuio);
+  const TableParams& table = level.params.table;
+  const auto onTable = [&](double x, double y) {
+    return Vec2(x * table.width, (1.0 - y) * table.height);
+  };
+  std::map<TuioSessionId, std::vector<ContactState>> states;  // per frame, of the checked ones
+  int withParticles = 0;
+  for (int k = 0; k < 373; ++k) {
+    ASSERT_EQ(input.Step(sim).value(), FrameStatus::kOk);
+    const ContactSet& set = sim.contacts();
+    // every set message of packet k is a contact of frame k, at its position
+    for (const OscMessage& m : (*level.script.tuioBundles)[static_cast<size_t>(k)].messages) {
+      if (m.args.size() < 4 || m.args[0].s != "set") continue;
+      const Contact* c = Find(set, static_cast<ContactId>(m.args[1].i));
+      ASSERT_NE(c, nullptr) << "session " << m.args[1].i << " in frame " << k;
+      EXPECT_NE(c->state, ContactState::kLifted);
+      EXPECT_NEAR((c->blob.centroid - onTable(m.args[2].f, m.args[3].f)).norm(), 0.0, 1e-3);
+    }
+    for (const CheckedSession& s : kTableData) {
+      const Contact* c = Find(set, static_cast<ContactId>(s.id));
+      if (k < s.first || k > s.lift) {
+        EXPECT_EQ(c, nullptr) << s.id << " frame " << k;
+        continue;
+      }
+      ASSERT_NE(c, nullptr) << s.id << " frame " << k;
+      const ContactState want = k == s.first  ? ContactState::kNew
+                                : k == s.lift ? ContactState::kLifted
+                                              : ContactState::kContinuing;
+      EXPECT_EQ(c->state, want) << s.id << " frame " << k;
+      if (k == s.first) {
+        EXPECT_NEAR((c->blob.centroid - onTable(s.x0, s.y0)).norm(), 0.0, 1e-3) << s.id;
+      }
+      if (k == s.last) {
+        EXPECT_NEAR((c->blob.centroid - onTable(s.x1, s.y1)).norm(), 0.0, 1e-3) << s.id;
+      }
+    }
+    if (sim.stats().contacts > 0 && sim.stats().particles > 0) ++withParticles;
+  }
+  EXPECT_GT(withParticles, 100) << "the proxies took the contacts";
+  EXPECT_EQ(input.tuio()->stats().TotalDropped(), 0u) << input.tuio()->Status();
 }
 
 }  // namespace

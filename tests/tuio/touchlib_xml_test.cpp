@@ -1,5 +1,7 @@
 #include "proxygrasp/tuio/touchlib_xml.h"
 
+#include "real_data.h"
+
 #include "proxygrasp/tuio/decoder.h"
 
 #include <gmock/gmock.h>
@@ -115,20 +117,8 @@ TEST(TouchlibXml, AMissingFileIsAnError) {
 
 // ---- the recorded streams from a real table (../shared/real/touchlib) ----
 
-/// The real data folder: $PROXYGRASP_REAL_DATA, else ../shared/real beside the project, else
-/// ../../shared/real; "" when none exists.
-std::string RealDataDir() {
-  std::vector<std::string> candidates;
-  if (const char* env = std::getenv("PROXYGRASP_REAL_DATA")) candidates.push_back(env);
-  candidates.push_back(std::string(PROXYGRASP_SOURCE_DIR) + "/../shared/real");
-  candidates.push_back(std::string(PROXYGRASP_SOURCE_DIR) + "/../../shared/real");
-  for (const std::string& c : candidates)
-    if (std::filesystem::is_directory(c + "/touchlib")) return c;
-  return "";
-}
-constexpr const char* kNoRealData =
-    "../shared/real is absent (a clone of the project alone): no recorded TUIO streams to replay; "
-    "set PROXYGRASP_REAL_DATA to its folder";
+using test::kNoRealData;
+using test::RealDataDir;
 
 // one cursor's life, read from the XML by hand (a script over the XML, not this reader): the
 // packet it first appears in alive, the last such packet, the packet whose alive it has left,
