@@ -386,22 +386,44 @@ TEST(TuioInput, AFloodOfTenThousandPacketsASecondForTwoSecondsIsCountedAndSurviv
 #endif
 }
 
-// sessions of ../shared/real/touchlib/tuio_tableData.xml, read from the XML by hand: the packet it
-// first appears in alive, the last such packet, the packet whose alive it has left, and its first
-// and last normalised position (the same sessions tests/tuio/touchlib_xml_test.cpp checks)
+// sessions of the touchlib recordings in ../shared/real/touchlib, read from the XML by hand: the
+// packet it first appears in alive, the last such packet, the packet whose alive it has left, and
+// its first and last normalised position (the sessions tests/tuio/touchlib_xml_test.cpp checks)
 struct CheckedSession {
   TuioSessionId id;
   int first, last, lift;
   double x0, y0, x1, y1;
 };
-constexpr CheckedSession kTableData[] = {
-    {9, 2, 42, 43, 0.31734723, 0.3147611, 0.32947665, 0.59706515},
-    {10, 85, 132, 133, 0.5076447, 0.20842105, 0.52693856, 0.6198044},
-    {16, 203, 229, 230, 0.29515514, 0.49067765, 0.4307044, 0.6411433},
-    {17, 205, 229, 230, 0.75292563, 0.46972466, 0.5867385, 0.6402787},
+struct TouchlibRecording {
+  const char* file;
+  size_t packets;
+  std::vector<CheckedSession> sessions;
+};
+const TouchlibRecording kTouchlib[] = {
+    {"touchlib/tuio_test.xml",
+     546,
+     {{1847, 0, 187, 188, 0.32171196, 0.55886567, 0.32262605, 0.566776},
+      {1848, 35, 137, 138, 0.3724041, 0.4086407, 0.45380107, 0.5567726},
+      {1865, 203, 234, 235, 0.2541643, 0.65127295, 0.35481566, 0.6140836},
+      {1879, 248, 375, 376, 0.424013, 0.3762815, 0.3059682, 0.6268407},
+      {1887, 309, 377, 378, 0.26926112, 0.68964726, 0.2704469, 0.6914832}}},
+    {"touchlib/tuio_tableData.xml",
+     373,
+     {{9, 2, 42, 43, 0.31734723, 0.3147611, 0.32947665, 0.59706515},
+      {10, 85, 132, 133, 0.5076447, 0.20842105, 0.52693856, 0.6198044},
+      {16, 203, 229, 230, 0.29515514, 0.49067765, 0.4307044, 0.6411433},
+      {17, 205, 229, 230, 0.75292563, 0.46972466, 0.5867385, 0.6402787}}},
 };
 
-TEST(TuioInput, ATouchlibRecordingPlaysThroughThePipelineWithItsSessionsAsContacts) {
+// names the recording in test failures instead of dumping its bytes
+void PrintTo(const TouchlibRecording& r, std::ostream* os) {
+  *os << r.file;
+}
+
+class TouchlibPipeline : public ::testing::TestWithParam<TouchlibRecording> {};
+
+TEST_P(TouchlibPipeline, EveryCursorIsAContactWithItsSessionIdPathAndLift) {
+  const TouchlibRecording& rec = GetParam();
   // a real table's TUIO 1.0 stream as a level's input: packet k arrives at k frames (its time
   // tags are all "immediately"), so simulation frame k holds packet k's cursors. Each cursor is
   // a contact whose id is its session id, new in the frame it first appears, at the XML's
@@ -409,11 +431,11 @@ TEST(TuioInput, ATouchlibRecordingPlaysThroughThePipelineWithItsSessionsAsContac
   // within 1e-3 cm), lifted in the frame whose alive has left it, and it gets particles
   const std::string dir = test::RealDataDir();
   if (dir.empty()) GTEST_SKIP() << test::kNoRealData;
-  const std::string file = dir + "/touchlib/tuio_tableData.xml";
+  const std::string file = dir + "/" + rec.file;
   const Level level =
       test::ParseOrFail("[script]\ntuio = \"" + file + "\"\n", "touchlib_level.toml");
   ASSERT_TRUE(level.script.tuioBundles);
-  ASSERT_EQ(level.script.tuioBundles->size(), 373u);
+  ASSERT_EQ(level.script.tuioBundles->size(), rec.packets);
   Simulation sim;
   ASSERT_FALSE(sim.Start(level, level.params));
   Result<FrameInput> opened = FrameInput::ForLevel(level);
@@ -424,9 +446,8 @@ TEST(TuioInput, ATouchlibRecordingPlaysThroughThePipelineWithItsSessionsAsContac
   const auto onTable = [&](double x, double y) {
     return Vec2(x * table.width, (1.0 - y) * table.height);
   };
-  std::map<TuioSessionId, std::vector<ContactState>> states;  // per frame, of the checked ones
   int withParticles = 0;
-  for (int k = 0; k < 373; ++k) {
+  for (int k = 0; k < static_cast<int>(rec.packets); ++k) {
     ASSERT_EQ(input.Step(sim).value(), FrameStatus::kOk);
     const ContactSet& set = sim.contacts();
     // every set message of packet k is a contact of frame k, at its position
@@ -437,7 +458,7 @@ TEST(TuioInput, ATouchlibRecordingPlaysThroughThePipelineWithItsSessionsAsContac
       EXPECT_NE(c->state, ContactState::kLifted);
       EXPECT_NEAR((c->blob.centroid - onTable(m.args[2].f, m.args[3].f)).norm(), 0.0, 1e-3);
     }
-    for (const CheckedSession& s : kTableData) {
+    for (const CheckedSession& s : rec.sessions) {
       const Contact* c = Find(set, static_cast<ContactId>(s.id));
       if (k < s.first || k > s.lift) {
         EXPECT_EQ(c, nullptr) << s.id << " frame " << k;
@@ -460,6 +481,11 @@ TEST(TuioInput, ATouchlibRecordingPlaysThroughThePipelineWithItsSessionsAsContac
   EXPECT_GT(withParticles, 100) << "the proxies took the contacts";
   EXPECT_EQ(input.tuio()->stats().TotalDropped(), 0u) << input.tuio()->Status();
 }
+
+INSTANTIATE_TEST_SUITE_P(Recordings, TouchlibPipeline, ::testing::ValuesIn(kTouchlib),
+                         [](const ::testing::TestParamInfo<TouchlibRecording>& info) {
+                           return info.index == 0 ? std::string("test") : std::string("tableData");
+                         });
 
 }  // namespace
 }  // namespace pg
