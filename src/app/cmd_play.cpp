@@ -73,7 +73,7 @@ int PlayHeadless(const PlayArgs& args, Level level) {
     return kExitBadInput;
   }
   // the first run's frames go out as TUIO too, as the window would send them
-  std::unique_ptr<TuioOutput> tuio;
+  std::unique_ptr<TuioOutput> output;
   if (!args.tuioOut.empty()) {
     TuioEncoderParams encoding;
     encoding.cursors11 = args.tuioCursors;
@@ -83,13 +83,13 @@ int PlayHeadless(const PlayArgs& args, Level level) {
                 << "\n";
       return kExitBadInput;
     }
-    tuio = std::move(opened.value());
+    output = std::move(opened.value());
   }
   FrameObserver send;
-  if (tuio) {
-    send = [&tuio](const RunResult&, const Simulation& sim) {
-      const bool firstFailure = tuio->sendErrors() == 0;
-      if (MaybeError s = tuio->Send(sim); s && firstFailure)
+  if (output) {
+    send = [&output](const RunResult&, const Simulation& sim) {
+      const bool firstFailure = output->sendErrors() == 0;
+      if (MaybeError s = output->Send(sim); s && firstFailure)
         std::cerr << "proxygrasp play: --tuio-out: " << s->Format()
                   << " (further failures are counted)\n";
     };
@@ -98,14 +98,14 @@ int PlayHeadless(const PlayArgs& args, Level level) {
   options.frames = args.frames;
   std::cout << "proxygrasp play: no display; running " << level.path << " headless\n";
   Result<LevelResult> result = RunLevelToVideo(level, options, video, send);
-  MaybeError closed = tuio ? tuio->Close() : std::nullopt;
+  MaybeError closed = output ? output->Close() : std::nullopt;
   if (!result.ok()) {
     std::cerr << result.error().Format() << "\n";
     return kExitBadInput;
   }
   std::cout << FormatReport(level, result.value());
   std::cout << "video: " << video.videoPath << "\npicture: " << video.pngPath << "\n";
-  if (tuio) std::cout << tuio->Status() << "\n";
+  if (output) std::cout << output->Status() << "\n";
   if (closed) {
     std::cerr << "proxygrasp play: --tuio-out: " << closed->Format() << "\n";
     return kExitFailed;

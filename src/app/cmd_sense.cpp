@@ -133,16 +133,16 @@ int RunSense(const SenseOptions& o) {
   if (!o.calibration.empty()) params.sensing.calibration = o.calibration;
 
   // the TUIO output, before any frame: a bad spec stops the run before it starts
-  std::unique_ptr<TuioOutput> tuio;
+  std::unique_ptr<TuioOutput> output;
   if (!o.tuioOut.empty()) {
     TuioEncoderParams encoding;
     encoding.cursors11 = o.tuioCursors;
-    Result<std::unique_ptr<TuioOutput>> opened = TuioOutput::Open(o.tuioOut, encoding);
-    if (!opened) {
-      std::cerr << me << "--tuio-out " << o.tuioOut << ": " << opened.error().Format() << "\n";
+    Result<std::unique_ptr<TuioOutput>> out = TuioOutput::Open(o.tuioOut, encoding);
+    if (!out) {
+      std::cerr << me << "--tuio-out " << o.tuioOut << ": " << out.error().Format() << "\n";
       return kExitBadInput;
     }
-    tuio = std::move(opened.value());
+    output = std::move(out.value());
   }
 
   // sensing and tracking only; a source's first frame fixes the image size the sensor takes, and
@@ -222,19 +222,19 @@ int RunSense(const SenseOptions& o) {
     failuresInARow = 0;
     std::cout << FrameJson(index, sim.contacts()) << "\n";
     // a frame that cannot be sent is counted and the run goes on; the first one is reported
-    if (tuio) {
-      const bool firstFailure = tuio->sendErrors() == 0;
-      if (MaybeError e = tuio->Send(sim); e && firstFailure)
+    if (output) {
+      const bool firstFailure = output->sendErrors() == 0;
+      if (MaybeError e = output->Send(sim); e && firstFailure)
         std::cerr << me << "--tuio-out: " << e->Format() << " (further failures are counted)\n";
     }
     ++index;
   }
   std::cout.flush();
   // what a TUIO stream brought, and what it dropped
-  if (const TuioStream* stream = in.frames.tuio()) std::cerr << me << stream->Status() << "\n";
-  if (tuio) {
-    MaybeError closed = tuio->Close();
-    std::cerr << me << tuio->Status() << "\n";
+  if (const TuioStream* tuio = in.frames.tuio()) std::cerr << me << tuio->Status() << "\n";
+  if (output) {
+    MaybeError closed = output->Close();
+    std::cerr << me << output->Status() << "\n";
     if (closed) {
       std::cerr << me << "--tuio-out: " << closed->Format() << "\n";
       return kExitFailed;
