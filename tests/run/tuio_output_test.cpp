@@ -210,6 +210,13 @@ TEST(TuioOutput, FileRecordingReplaysAsTheSameContactsAtTheSimulationTime) {
   }
   EXPECT_EQ(bundles.value().front().time, (OscTimeTag{0, 0}));
   EXPECT_EQ(bundles.value().back().time, OscTimeTag::FromSeconds(209.0 / 60.0));
+  // so a replay on the time tags (ReplayArrivals, what [script] tuio uses) places each bundle at
+  // its frame's time; 1e-9 s is the time tag's resolution (2^-32 s) with room to spare
+  const std::vector<double> arrivals = ReplayArrivals(bundles.value(), 1.0);
+  ASSERT_EQ(arrivals.size(), bundles.value().size());
+  for (size_t k = 0; k < arrivals.size(); ++k)
+    EXPECT_NEAR(arrivals[k], bundles.value()[k].time.ToSeconds(), 1e-9) << "bundle " << k;
+  EXPECT_NEAR(arrivals.back(), 209.0 / 60.0, 1e-9);
 
   // replayed: the TUIO 2.0 frames are the simulation's frames, the 2Dcur frames its centroids
   std::vector<OscBundle> tuio2Bundles, cursorBundles;
@@ -272,6 +279,9 @@ TEST(TuioOutput, ARestartedRunLiftsTheOldContactsAndCountsOn) {
     const int64_t frame = b.messages.front().args[0].i;
     EXPECT_NEAR(b.time.ToSeconds(), frame * dt, 1e-9) << "frame " << frame;
   }
+  // they never run backwards, so a replay on the time tags keeps them
+  const std::vector<double> arrivals = ReplayArrivals(bundles.value(), 1.0);
+  EXPECT_NEAR(arrivals.back(), 30 * dt, 1e-9);
   // frame 20 lifts the old run's contacts; frame 21 has the new run's, new again
   EXPECT_TRUE(frames[20].contacts.empty());
   std::vector<TuioSessionId> lifted = frames[20].lifted;
