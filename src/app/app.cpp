@@ -6,6 +6,7 @@
 #include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/trace.h"
+#include "proxygrasp/run/tuio_output.h"
 
 #include <SDL.h>
 #include <imgui.h>
@@ -191,6 +192,9 @@ struct App::Impl {
   TraceWriter recorder;  // input.mkv, objects.csv and frames.csv of out/<level>_recN
   std::string recordDir;
 
+  // every stepped frame's contacts sent on as TUIO (--tuio-out), or nothing
+  std::unique_ptr<TuioOutput> tuioOut;
+
   // frame timing
   Clock::time_point lastTick = Clock::now();
   double fps = 0.0;
@@ -212,6 +216,7 @@ struct App::Impl {
   void CheckLevelFiles();
   void StepInput();
   void Record();
+  void SendTuio();
   void StartRecording();
   void StopRecording();
   void DrawPanel();
@@ -225,6 +230,10 @@ struct App::Impl {
 
 App::Impl::~Impl() {
   StopRecording();
+  if (tuioOut) {
+    if (MaybeError s = tuioOut->Close()) std::cerr << "proxygrasp play: " << s->Format() << "\n";
+    std::cout << "proxygrasp play: " << tuioOut->Status() << std::endl;
+  }
   if (imguiUp) {
     ImGui_ImplSDLRenderer_Shutdown();
     ImGui_ImplSDL2_Shutdown();
@@ -669,6 +678,7 @@ void App::Impl::StepInput() {
   switch (stepped.value()) {
     case FrameStatus::kOk:
       Record();
+      SendTuio();
       return;
     case FrameStatus::kEnd:
       // a video replays from its start, with a fresh run
@@ -721,6 +731,15 @@ void App::Impl::Record() {
     runError = s->Format();
     StopRecording();
   }
+}
+
+void App::Impl::SendTuio() {
+  if (!tuioOut) return;
+  // a frame that cannot be sent is counted in the status line, never fatal; the first is logged
+  const bool firstFailure = tuioOut->sendErrors() == 0;
+  if (MaybeError s = tuioOut->Send(sim); s && firstFailure)
+    std::cerr << "proxygrasp play: --tuio-out: " << s->Format() << " (further failures are counted)"
+              << std::endl;
 }
 
 std::string App::Impl::ChangedToml() const {
@@ -824,6 +843,14 @@ MaybeError App::Open(const AppOptions& options) {
   Result<Level> level = a.ReadLevel(options.level);
   if (!level.ok()) return level.error();
   if (MaybeError s = a.SetupInput()) return s;
+  if (!options.tuioOut.empty()) {
+    TuioEncoderParams encoding;
+    encoding.cursors11 = options.tuioCursors;
+    Result<std::unique_ptr<TuioOutput>> out = TuioOutput::Open(options.tuioOut, encoding);
+    if (!out.ok())
+      return MakeError({}, "--tuio-out " + options.tuioOut + ": " + out.error().Format());
+    a.tuioOut = std::move(out.value());
+  }
   if (MaybeError s = a.OpenWindow()) return s;
   if (MaybeError s = a.Adopt(std::move(level.value()), options.level)) return s;
   SDL_SetWindowTitle(a.window, ("proxygrasp - " + a.level.name).c_str());
@@ -854,6 +881,7 @@ bool App::Tick() {
   if (const TuioStream* tuio = a.frames.tuio()) status += " (" + tuio->Status() + ")";
   if (a.paused) status += "   PAUSED";
   if (a.recorder.IsOpen()) status += "   REC " + a.recordDir;
+  if (a.tuioOut) status += "   " + a.tuioOut->Status();
   if (!a.message.empty() &&
       std::chrono::duration<double>(start - a.messageTime).count() < kMessageSeconds)
     status += "   " + a.message;

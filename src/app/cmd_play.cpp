@@ -6,6 +6,7 @@
 #include "proxygrasp/app/video.h"
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/runner.h"
+#include "proxygrasp/run/tuio_output.h"
 
 #include <SDL.h>
 
@@ -28,6 +29,8 @@ struct PlayArgs {
   std::string size = "1280x960";
   std::string outDir = "out";
   std::string show;
+  std::string tuioOut;  // HOST:PORT or file:PATH
+  bool tuioCursors = false;
 };
 
 // the default level from the working directory, or from the source tree the executable was
@@ -69,16 +72,44 @@ int PlayHeadless(const PlayArgs& args, Level level) {
     std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
     return kExitBadInput;
   }
+  // the first run's frames go out as TUIO too, as the window would send them
+  std::unique_ptr<TuioOutput> output;
+  if (!args.tuioOut.empty()) {
+    TuioEncoderParams encoding;
+    encoding.cursors11 = args.tuioCursors;
+    Result<std::unique_ptr<TuioOutput>> opened = TuioOutput::Open(args.tuioOut, encoding);
+    if (!opened.ok()) {
+      std::cerr << "proxygrasp play: --tuio-out " << args.tuioOut << ": " << opened.error().Format()
+                << "\n";
+      return kExitBadInput;
+    }
+    output = std::move(opened.value());
+  }
+  FrameObserver send;
+  if (output) {
+    send = [&output](const RunResult&, const Simulation& sim) {
+      const bool firstFailure = output->sendErrors() == 0;
+      if (MaybeError s = output->Send(sim); s && firstFailure)
+        std::cerr << "proxygrasp play: --tuio-out: " << s->Format()
+                  << " (further failures are counted)\n";
+    };
+  }
   RunOptions options;
   options.frames = args.frames;
   std::cout << "proxygrasp play: no display; running " << level.path << " headless\n";
-  Result<LevelResult> result = RunLevelToVideo(level, options, video);
+  Result<LevelResult> result = RunLevelToVideo(level, options, video, send);
+  MaybeError closed = output ? output->Close() : std::nullopt;
   if (!result.ok()) {
     std::cerr << result.error().Format() << "\n";
     return kExitBadInput;
   }
   std::cout << FormatReport(level, result.value());
   std::cout << "video: " << video.videoPath << "\npicture: " << video.pngPath << "\n";
+  if (output) std::cout << output->Status() << "\n";
+  if (closed) {
+    std::cerr << "proxygrasp play: --tuio-out: " << closed->Format() << "\n";
+    return kExitFailed;
+  }
   return kExitOk;
 }
 
@@ -105,6 +136,8 @@ int Play(const PlayArgs& args) {
   options.fullscreen = a.fullscreen;
   options.display = a.display;
   options.outDir = a.outDir;
+  options.tuioOut = a.tuioOut;
+  options.tuioCursors = a.tuioCursors;
   if (MaybeError s = ParseViewOptions(a.show, options.view)) {
     std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
     return kExitBadInput;
@@ -164,6 +197,12 @@ void AddPlayCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--show", args.show,
                   "Overlays at start: forces,successors,camera,help,nohud,layer=N");
   cmd->add_option("--out", args.outDir, "Folder for screenshots, recordings and headless output");
+  cmd->add_option("--tuio-out", args.tuioOut,
+                  "Also send each frame's contacts as TUIO 2.0 to HOST:PORT over UDP, or record "
+                  "them to file:PATH (touchlib XML; time tags are the frames' times)");
+  cmd->add_flag("--tuio-cursors", args.tuioCursors,
+                "With --tuio-out, also send TUIO 1.1 /tuio/2Dcur cursors for older clients")
+      ->needs("--tuio-out");
   cmd->callback([&exitCode] { exitCode = Play(args); });
 }
 

@@ -1,12 +1,14 @@
 // `proxygrasp sense INPUT`: what the table sees. Steps a simulation of sensing and tracking alone
 // (run/simulation.h) with frames from a camera, a video, a folder of images, a synthetic scene or
 // a level's script, and prints one JSON object per frame with the tracked contacts in table cm.
+// With --tuio-out the contacts also go out as TUIO (run/tuio_output.h).
 #include "commands.h"
 
 #include "proxygrasp/level/level.h"
 #include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
+#include "proxygrasp/run/tuio_output.h"
 #include "proxygrasp/sensing/preview.h"
 
 #include <opencv2/imgcodecs.hpp>
@@ -101,6 +103,8 @@ struct SenseOptions {
   int64_t frames = 0;
   std::vector<std::string> sets;
   std::string preview;  // PNG of the last frame's filter stages and contacts
+  std::string tuioOut;  // HOST:PORT or file:PATH
+  bool tuioCursors = false;
 };
 
 // the sensing view of the last frame: each filter stage side by side, contacts and ids drawn
@@ -127,6 +131,19 @@ int RunSense(const SenseOptions& o) {
     return kExitBadInput;
   }
   if (!o.calibration.empty()) params.sensing.calibration = o.calibration;
+
+  // the TUIO output, before any frame: a bad spec stops the run before it starts
+  std::unique_ptr<TuioOutput> output;
+  if (!o.tuioOut.empty()) {
+    TuioEncoderParams encoding;
+    encoding.cursors11 = o.tuioCursors;
+    Result<std::unique_ptr<TuioOutput>> out = TuioOutput::Open(o.tuioOut, encoding);
+    if (!out) {
+      std::cerr << me << "--tuio-out " << o.tuioOut << ": " << out.error().Format() << "\n";
+      return kExitBadInput;
+    }
+    output = std::move(out.value());
+  }
 
   // sensing and tracking only; a source's first frame fixes the image size the sensor takes, and
   // real frames get no synthetic background; a script or TUIO takes the level's camera size
@@ -204,11 +221,25 @@ int RunSense(const SenseOptions& o) {
     }
     failuresInARow = 0;
     std::cout << FrameJson(index, sim.contacts()) << "\n";
+    // a frame that cannot be sent is counted and the run goes on; the first one is reported
+    if (output) {
+      const bool firstFailure = output->sendErrors() == 0;
+      if (MaybeError e = output->Send(sim); e && firstFailure)
+        std::cerr << me << "--tuio-out: " << e->Format() << " (further failures are counted)\n";
+    }
     ++index;
   }
   std::cout.flush();
   // what a TUIO stream brought, and what it dropped
   if (const TuioStream* tuio = in.frames.tuio()) std::cerr << me << tuio->Status() << "\n";
+  if (output) {
+    MaybeError closed = output->Close();
+    std::cerr << me << output->Status() << "\n";
+    if (closed) {
+      std::cerr << me << "--tuio-out: " << closed->Format() << "\n";
+      return kExitFailed;
+    }
+  }
   if (!o.preview.empty() && (!started || !WritePreview(sim, o.preview))) {
     std::cerr << me << "cannot write the sensing preview " << o.preview << "\n";
     return kExitFailed;
@@ -242,6 +273,12 @@ void AddSenseCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--preview", options.preview,
                   "write the last frame's filter stages side by side, with the contacts' outlines "
                   "and ids on the camera image, to this PNG (with --frames N: frame N-1)");
+  cmd->add_option("--tuio-out", options.tuioOut,
+                  "also send each frame's contacts as TUIO 2.0 to HOST:PORT over UDP, or record "
+                  "them to file:PATH (touchlib XML; time tags are the frames' times)");
+  cmd->add_flag("--tuio-cursors", options.tuioCursors,
+                "with --tuio-out, also send TUIO 1.1 /tuio/2Dcur cursors for older clients")
+      ->needs("--tuio-out");
   cmd->callback([&exitCode] { exitCode = RunSense(options); });
 }
 

@@ -21,7 +21,7 @@ void MakeParent(const std::string& path) {
 }  // namespace
 
 Result<LevelResult> RunLevelToVideo(const Level& level, const RunOptions& options,
-                                    const VideoOptions& video) {
+                                    const VideoOptions& video, const FrameObserver& observer) {
   // the frame the PNG shows, counted from 1 like Simulation::Frame after a step
   const double frameRate = level.params.physics.frameRate;
   const int64_t total =
@@ -39,7 +39,7 @@ Result<LevelResult> RunLevelToVideo(const Level& level, const RunOptions& option
   MaybeError failure;
   bool pngWritten = false;
   cv::Mat lastPicture;
-  auto observer = [&](const RunResult& run, const Simulation& sim) {
+  auto draw = [&](const RunResult& run, const Simulation& sim) {
     // only the first run is drawn: variants and other modes replay the same script
     if (firstRun.empty()) firstRun = run.name;
     if (run.name != firstRun || failure) return;
@@ -71,9 +71,10 @@ Result<LevelResult> RunLevelToVideo(const Level& level, const RunOptions& option
       }
       pngWritten = true;
     }
+    if (observer) observer(run, sim);
   };
 
-  Result<LevelResult> result = RunLevel(level, options, observer);
+  Result<LevelResult> result = RunLevel(level, options, draw);
   writer.release();
   if (!result.ok()) return result;
   if (failure) return *failure;

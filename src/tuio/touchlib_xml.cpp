@@ -1,9 +1,11 @@
 #include "proxygrasp/tuio/touchlib_xml.h"
 
+#include <cassert>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -188,11 +190,13 @@ Result<OscArg> ReadArgument(const Tag& tag, const Scanner& scan) {
     return scan.ErrorAt(tag.line, tag.col, "ARGUMENT needs a one-letter TYPE");
   const char t = type->second[0];
   auto value = tag.attributes.find("VALUE");
-  const bool carriesValue = t == 'i' || t == 'h' || t == 'f' || t == 'd' || t == 's' || t == 'S';
+  const bool carriesValue =
+      t == 'i' || t == 'h' || t == 'f' || t == 'd' || t == 's' || t == 'S' || t == 't';
   if (!carriesValue) {
     if (t == 'T' || t == 'F' || t == 'N' || t == 'I') return OscArg::Other(t);
-    return scan.ErrorAt(tag.line, tag.col,
-                        std::string("unsupported ARGUMENT TYPE \"") + t + "\" (use i h f d s S)");
+    return scan.ErrorAt(
+        tag.line, tag.col,
+        std::string("unsupported ARGUMENT TYPE \"") + t + "\" (use i h f d s S t T F N I)");
   }
   if (value == tag.attributes.end())
     return scan.ErrorAt(tag.line, tag.col, "ARGUMENT of TYPE " + type->second + " needs a VALUE");
@@ -205,6 +209,14 @@ Result<OscArg> ReadArgument(const Tag& tag, const Scanner& scan) {
   const char* begin = v.c_str();
   char* end = nullptr;
   errno = 0;
+  if (t == 't') {
+    // the raw 64-bit time tag, as TIME
+    const unsigned long long raw = std::strtoull(begin, &end, 10);
+    if (v.empty() || v[0] < '0' || v[0] > '9' || *end != '\0' || errno == ERANGE)
+      return scan.ErrorAt(tag.line, tag.col, "VALUE \"" + v + "\" is not a time tag");
+    return OscArg::Time(
+        {static_cast<uint32_t>(raw >> 32), static_cast<uint32_t>(raw & 0xffffffffu)});
+  }
   if (t == 'i' || t == 'h') {
     const long long n = std::strtoll(begin, &end, 10);
     const bool fits = t == 'h' || (n >= INT32_MIN && n <= INT32_MAX);
@@ -218,6 +230,80 @@ Result<OscArg> ReadArgument(const Tag& tag, const Scanner& scan) {
   if (v.empty() || *end != '\0')
     return scan.ErrorAt(tag.line, tag.col, "VALUE \"" + v + "\" is not a number");
   return t == 'f' ? OscArg::Float(static_cast<float>(d)) : OscArg::Double(d);
+}
+
+// ---- writing ----
+
+// text for an attribute value in double quotes: the five predefined entities, and control
+// characters as numeric references (the reader takes any below 128)
+void AppendEscaped(std::string& out, std::string_view text) {
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20)
+          out += "&#" + std::to_string(static_cast<int>(c)) + ";";
+        else
+          out += c;
+    }
+  }
+}
+
+uint64_t RawTimeTag(OscTimeTag t) {
+  return (static_cast<uint64_t>(t.seconds) << 32) | t.fraction;
+}
+
+// the VALUE of an argument; false for a type the format does not hold
+bool ArgumentValue(const OscArg& a, std::string& value) {
+  char buf[40];
+  switch (a.type) {
+    case 'i':
+      // an int32 on the wire, whatever the field holds
+      value = std::to_string(static_cast<int32_t>(a.i));
+      return true;
+    case 'h':
+      value = std::to_string(a.i);
+      return true;
+    case 'f':
+      // 9 significant digits tell every float32 apart, 17 every double
+      std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(static_cast<float>(a.f)));
+      value = buf;
+      return true;
+    case 'd':
+      std::snprintf(buf, sizeof buf, "%.17g", a.f);
+      value = buf;
+      return true;
+    case 's':
+    case 'S':
+      value.clear();
+      AppendEscaped(value, a.s);
+      return a.s.find('\0') == std::string::npos;
+    case 't':
+      value = std::to_string(RawTimeTag(a.t));
+      return true;
+    case 'T':
+    case 'F':
+    case 'N':
+    case 'I':
+      value.clear();
+      return true;
+    default:
+      return false;
+  }
 }
 
 }  // namespace
@@ -293,6 +379,86 @@ Result<std::vector<OscBundle>> ReadTouchlibXml(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return ParseTouchlibXml(text.str(), path);
+}
+
+MaybeError TouchlibXmlWriter::Open(const std::string& path, const std::string& address, int port) {
+  assert(!IsOpen() && "close the recording before opening another");
+  m_path = path;
+  m_packets = 0;
+  m_failed = false;
+  m_errno = 0;
+  m_file = std::fopen(path.c_str(), "wb");
+  if (!m_file)
+    return MakeError({path},
+                     std::string("cannot create the TUIO recording: ") + std::strerror(errno));
+  m_packetStart = "  <OSCPACKET ADDRESS=\"";
+  AppendEscaped(m_packetStart, address);
+  m_packetStart += "\" PORT=\"" + std::to_string(port) + "\" TIME=\"";
+  if (!Write("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<OSCPackets>\n")) {
+    MaybeError e = Close();
+    return e;
+  }
+  return std::nullopt;
+}
+
+bool TouchlibXmlWriter::Write(const std::string& text) {
+  if (std::fwrite(text.data(), 1, text.size(), m_file) == text.size()) return true;
+  if (!m_failed) m_errno = errno;
+  m_failed = true;
+  return false;
+}
+
+MaybeError TouchlibXmlWriter::Append(const OscBundle& bundle) {
+  if (!IsOpen()) return MakeError({m_path}, "the TUIO recording is not open");
+  // the whole packet first, so that a bundle the format cannot hold leaves nothing behind
+  std::string text = m_packetStart + std::to_string(RawTimeTag(bundle.time)) + "\">\n";
+  std::string value;
+  for (const OscMessage& m : bundle.messages) {
+    text += "    <MESSAGE NAME=\"";
+    AppendEscaped(text, m.address);
+    text += "\">\n";
+    for (size_t k = 0; k < m.args.size(); ++k) {
+      const OscArg& a = m.args[k];
+      if (!ArgumentValue(a, value)) {
+        const bool nul = a.type == 's' || a.type == 'S';
+        return MakeError({m_path}, m.address + " argument " + std::to_string(k) + ": " +
+                                       (nul ? std::string("a string holding a NUL byte")
+                                            : std::string("type '") + a.type + "'") +
+                                       " cannot be recorded (types i h f d s S t T F N I)");
+      }
+      text += "      <ARGUMENT TYPE=\"";
+      text += a.type;
+      text += '"';
+      if (a.type != 'T' && a.type != 'F' && a.type != 'N' && a.type != 'I')
+        text += " VALUE=\"" + value + '"';
+      text += "/>\n";
+    }
+    text += "    </MESSAGE>\n";
+  }
+  text += "  </OSCPACKET>\n";
+  if (!Write(text))
+    return MakeError({m_path},
+                     std::string("cannot write the TUIO recording: ") + std::strerror(m_errno));
+  ++m_packets;
+  return std::nullopt;
+}
+
+MaybeError TouchlibXmlWriter::Close() {
+  if (!m_file) return std::nullopt;
+  Write("</OSCPackets>\n");
+  if (std::fflush(m_file) != 0 && !m_failed) {
+    m_errno = errno;
+    m_failed = true;
+  }
+  if (std::fclose(m_file) != 0 && !m_failed) {
+    m_errno = errno;
+    m_failed = true;
+  }
+  m_file = nullptr;
+  if (m_failed)
+    return MakeError({m_path},
+                     std::string("cannot complete the TUIO recording: ") + std::strerror(m_errno));
+  return std::nullopt;
 }
 
 }  // namespace pg

@@ -297,6 +297,15 @@ Result<std::unique_ptr<TuioSender>> TuioSender::Open(const std::string& hostPort
   }
   if (port < 1 || port > 65535)
     return MakeError({}, "TUIO output port must be 1 to 65535 (got \"" + portText + "\")");
+  // liblo resolves the host only when it first sends: resolve it here, so that a name that does
+  // not resolve is an error now rather than a failed send on every frame
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_DGRAM;
+  addrinfo* found = nullptr;
+  if (const int r = getaddrinfo(host.c_str(), portText.c_str(), &hints, &found); r != 0)
+    return MakeError({}, "cannot send TUIO to \"" + hostPort + "\": " + gai_strerror(r));
+  freeaddrinfo(found);
   std::unique_ptr<TuioSender> s(new TuioSender());
   s->m_encoder.SetParams(params);
   s->m_impl->address = lo_address_new_with_proto(LO_UDP, host.c_str(), portText.c_str());

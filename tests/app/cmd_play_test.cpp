@@ -6,6 +6,8 @@
 
 #include "proxygrasp/app/table_view.h"
 #include "proxygrasp/level/level.h"
+#include "proxygrasp/tuio/decoder.h"
+#include "proxygrasp/tuio/touchlib_xml.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -126,6 +128,78 @@ TEST(PlayCommand, ABadLevelIsReportedWithItsLocation) {
   EXPECT_NE(r.output.find(path + ":2:1:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("did you mean 'substeps'"), std::string::npos) << r.output;
   std::filesystem::remove_all(dir);
+}
+
+// the frames of a recording play wrote with --tuio-out: TUIO 2.0 bundles and, when asked, 2Dcur
+void ExpectRecordedFrames(const std::string& path, int frames, bool cursors) {
+  SCOPED_TRACE(path);
+  Result<std::vector<OscBundle>> bundles = ReadTouchlibXml(path);
+  ASSERT_TRUE(bundles.ok()) << bundles.error().Format();
+  std::vector<OscBundle> tuio2;
+  int cursorBundles = 0;
+  for (const OscBundle& b : bundles.value()) {
+    if (b.messages.front().address == "/tuio2/frm") {
+      tuio2.push_back(b);
+      // the time tag is the frame's time in the level, 60 frames a second
+      EXPECT_EQ(b.time, OscTimeTag::FromSeconds(b.messages.front().args[0].i / 60.0));
+    } else {
+      ++cursorBundles;
+    }
+  }
+  EXPECT_EQ(cursorBundles, cursors ? frames : 0);
+  const std::vector<TuioFrame> replayed = ReplayTuio(tuio2, TuioParams());
+  ASSERT_EQ(static_cast<int>(replayed.size()), frames);
+  // the level's one fingertip, new in the first frame and there in every one
+  for (int f = 0; f < frames; ++f) {
+    ASSERT_EQ(replayed[f].frame, f);
+    ASSERT_EQ(replayed[f].contacts.size(), 1u) << "frame " << f;
+    EXPECT_EQ(replayed[f].contacts[0].isNew, f == 0);
+  }
+}
+
+TEST(PlayCommand, TuioOutRecordsEveryFrameInAWindowAndWithoutADisplay) {
+  const std::string dir = TempDir("tuio");
+  constexpr int kFrames = 12;
+  const std::string headless = dir + "/headless.xml";
+  test::CommandResult r = RunWithEnv("-u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER",
+                                     "play " + kLevel + " --frames " + std::to_string(kFrames) +
+                                         " --out " + dir + " --tuio-out file:" + headless);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("tuio out file:" + headless + ": 12 frames, 0 write errors"),
+            std::string::npos)
+      << r.output;
+  ExpectRecordedFrames(headless, kFrames, false);
+
+  if (!std::filesystem::exists(test::kXvfb)) GTEST_SKIP() << "Xvfb is not installed";
+  test::Xvfb xvfb;
+  ASSERT_TRUE(xvfb.Start());
+  const std::string window = dir + "/window.xml";
+  r = RunWithEnv("-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
+                 "play " + kLevel + " --input script --frames " + std::to_string(kFrames) +
+                     " --size 800x600 --out " + dir + " --tuio-out file:" + window +
+                     " --tuio-cursors");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("tuio out file:" + window + ": 12 frames, 0 write errors"),
+            std::string::npos)
+      << r.output;
+  ExpectRecordedFrames(window, kFrames, true);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PlayCommand, ABadTuioOutIsReportedNamingTheOption) {
+  const std::string args = "play " + kLevel + " --frames 1 --tuio-out nohost";
+  const std::string message = "--tuio-out nohost: TUIO output must be HOST:PORT or file:PATH";
+  test::CommandResult r = RunWithEnv("-u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER", args);
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+
+  if (!std::filesystem::exists(test::kXvfb)) GTEST_SKIP() << "Xvfb is not installed";
+  test::Xvfb xvfb;
+  ASSERT_TRUE(xvfb.Start());
+  r = RunWithEnv("-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
+                 args + " --input script");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
 }
 
 TEST(RunCommand, VideoOptionDrawsTheRun) {

@@ -2,16 +2,32 @@
 
 #include "proxygrasp/sensing/calibration.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
+#include "proxygrasp/tuio/decoder.h"
+#include "proxygrasp/tuio/touchlib_xml.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include <arpa/inet.h>
 #include <cctype>
+#include <chrono>
 #include <cstdlib>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <netinet/in.h>
+#include <set>
+#include <signal.h>
+#include <spawn.h>
 #include <sstream>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+extern char** environ;
 
 namespace pg {
 namespace {
@@ -198,6 +214,232 @@ TEST(SenseCommand, BadLevelFileExitsTwoWithLocation) {
   EXPECT_THAT(r.output, HasSubstr(path + ":2:1:"));
   EXPECT_THAT(r.output, HasSubstr("did you mean 'width'"));
   std::filesystem::remove(path);
+}
+
+// ---- --tuio-out ----
+
+const std::string kReleaseLevel = std::string(PROXYGRASP_SOURCE_DIR) + "/levels/release.toml";
+
+// the ids of a JSON frame line's contacts that have not lifted
+std::vector<int64_t> LiveIds(const std::string& line) {
+  std::vector<int64_t> ids;
+  const std::string key = "{\"id\": ";
+  for (size_t at = line.find(key); at != std::string::npos; at = line.find(key, at + 1)) {
+    const int64_t id = std::strtoll(line.c_str() + at + key.size(), nullptr, 10);
+    const size_t state = line.find("\"state\": \"", at);
+    if (line.compare(state + 10, 7, "lifted\"") != 0) ids.push_back(id);
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+// the JSON frame lines of sense's output
+std::vector<std::string> FrameLines(const std::string& output) {
+  std::vector<std::string> frames;
+  for (const std::string& line : Lines(output))
+    if (line.rfind("{\"frame\": ", 0) == 0) frames.push_back(line);
+  return frames;
+}
+
+// a UDP port nobody listens on right now
+int FreePort() {
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  close(fd);
+  return ntohs(a.sin_port);
+}
+
+// true when something is bound to the UDP port on the loopback address
+bool PortTaken(int port) {
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const bool taken = bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0;
+  close(fd);
+  return taken;
+}
+
+bool HaveTool(const char* name) {
+  return std::system(("command -v " + std::string(name) + " >/dev/null 2>&1").c_str()) == 0;
+}
+
+// one line of oscdump: "<time tag> <address> <types> <values...>"
+struct DumpLine {
+  std::string time, address, types;
+  std::vector<std::string> values;
+};
+
+std::vector<DumpLine> ReadDump(const std::string& path) {
+  std::vector<DumpLine> lines;
+  std::ifstream in(path);
+  std::string text;
+  while (std::getline(in, text)) {
+    std::istringstream words(text);
+    DumpLine line;
+    if (!(words >> line.time >> line.address)) continue;
+    words >> line.types;
+    for (std::string value; words >> value;) line.values.push_back(value);
+    lines.push_back(std::move(line));
+  }
+  return lines;
+}
+
+std::string Hex(OscTimeTag t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%08x.%08x", t.seconds, t.fraction);
+  return text;
+}
+
+TEST(SenseCommand, TuioOutSendsWhatOscdumpSeesWithTheJsonIds) {
+  if (!HaveTool("oscdump"))
+    GTEST_SKIP() << "oscdump is not installed (Debian package liblo-tools): no independent peer";
+  const int port = FreePort();
+  const std::string dump = ::testing::TempDir() + "/sense_oscdump_" + std::to_string(getpid());
+  // oscdump -L PORT > dump, bound before sense sends anything
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, dump.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  const std::string portText = std::to_string(port);
+  char* argv[] = {const_cast<char*>("oscdump"), const_cast<char*>("-L"),
+                  const_cast<char*>(portText.c_str()), nullptr};
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawnp(&pid, "oscdump", &actions, nullptr, argv, environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  for (int k = 0; k < 300 && !PortTaken(port); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+
+  constexpr int kFrames = 30;
+  const auto r = RunProxygrasp("sense " + kReleaseLevel + " --frames " + std::to_string(kFrames) +
+                               " --tuio-out 127.0.0.1:" + portText);
+  // every frame's alv in the dump, or give up after 3 s
+  std::vector<DumpLine> lines;
+  for (int k = 0; k < 300; ++k) {
+    lines = ReadDump(dump);
+    if (std::count_if(lines.begin(), lines.end(),
+                      [](const DumpLine& l) { return l.address == "/tuio2/alv"; }) >= kFrames)
+      break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  kill(pid, SIGTERM);
+  waitpid(pid, nullptr, 0);
+  std::remove(dump.c_str());
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("tuio out 127.0.0.1:" + portText + ": 30 frames, 0 send errors"));
+  const std::vector<std::string> json = FrameLines(r.output);
+  ASSERT_EQ(json.size(), static_cast<size_t>(kFrames));
+
+  // per frame: the sessions that sent ptr and ocg, and the alv list
+  struct Seen {
+    std::set<int64_t> ptr, ocg;
+    std::vector<int64_t> alv;
+    std::string time;
+    bool ended = false;
+  };
+  std::map<int64_t, Seen> frames;
+  int64_t frame = -1;
+  std::set<std::string> addresses;
+  for (const DumpLine& l : lines) {
+    addresses.insert(l.address);
+    if (l.address == "/tuio2/frm") {
+      frame = std::stoll(l.values.at(0));
+      frames[frame].time = l.values.at(1);
+      EXPECT_EQ(l.time, l.values.at(1)) << "the bundle's time tag is frm's";
+      continue;
+    }
+    ASSERT_GE(frame, 0) << l.address << " before any frm";
+    Seen& seen = frames[frame];
+    if (l.address == "/tuio2/ptr") seen.ptr.insert(std::stoll(l.values.at(0)));
+    if (l.address == "/tuio2/ocg") seen.ocg.insert(std::stoll(l.values.at(0)));
+    if (l.address == "/tuio2/alv") {
+      for (const std::string& v : l.values) seen.alv.push_back(std::stoll(v));
+      seen.ended = true;
+    }
+  }
+  for (const char* address : {"/tuio2/frm", "/tuio2/ptr", "/tuio2/bnd", "/tuio2/ocg", "/tuio2/alv"})
+    EXPECT_EQ(addresses.count(address), 1u) << address;
+  ASSERT_EQ(frames.size(), static_cast<size_t>(kFrames));
+  for (int64_t f = 0; f < kFrames; ++f) {
+    SCOPED_TRACE("frame " + std::to_string(f));
+    ASSERT_EQ(frames.count(f), 1u);
+    const Seen& seen = frames[f];
+    const std::vector<int64_t> ids = LiveIds(json[f]);
+    EXPECT_EQ(ids.size(), 4u) << json[f];
+    EXPECT_TRUE(seen.ended);
+    std::vector<int64_t> alv = seen.alv;
+    std::sort(alv.begin(), alv.end());
+    EXPECT_EQ(alv, ids);
+    EXPECT_EQ(std::vector<int64_t>(seen.ptr.begin(), seen.ptr.end()), ids);
+    EXPECT_EQ(std::vector<int64_t>(seen.ocg.begin(), seen.ocg.end()), ids);
+    // the time tag is the frame's simulation time, 60 frames a second
+    EXPECT_EQ(seen.time, Hex(OscTimeTag::FromSeconds(f / 60.0)));
+  }
+}
+
+TEST(SenseCommand, TuioOutToAFileRecordsTheSameContacts) {
+  const std::string path =
+      ::testing::TempDir() + "/sense_tuio_" + std::to_string(getpid()) + ".xml";
+  const auto r =
+      RunProxygrasp("sense " + kReleaseLevel + " --tuio-out file:" + path + " --tuio-cursors");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("tuio out file:" + path + ": 210 frames, 0 write errors"));
+  const std::vector<std::string> json = FrameLines(r.output);
+  ASSERT_EQ(json.size(), 210u);
+  Result<std::vector<OscBundle>> bundles = ReadTouchlibXml(path);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(bundles.ok()) << bundles.error().Format();
+  // the TUIO 2.0 frames replayed hold the ids sense printed, frame by frame; each frame also has
+  // its 2Dcur bundle
+  std::vector<OscBundle> tuio2;
+  size_t cursorBundles = 0;
+  for (const OscBundle& b : bundles.value()) {
+    if (b.messages.front().address == "/tuio2/frm") {
+      tuio2.push_back(b);
+    } else {
+      EXPECT_EQ(b.messages.front().address, "/tuio/2Dcur");
+      ++cursorBundles;
+    }
+  }
+  EXPECT_EQ(cursorBundles, 210u);
+  TuioParams params;  // release.toml's table is the default 61 x 46 cm
+  const std::vector<TuioFrame> frames = ReplayTuio(tuio2, params);
+  ASSERT_EQ(frames.size(), 210u);
+  std::set<int64_t> lifted;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    std::vector<int64_t> ids;
+    for (const TuioContact& c : frames[f].contacts) ids.push_back(c.id);
+    EXPECT_EQ(ids, LiveIds(json[f])) << "frame " << f;
+    lifted.insert(frames[f].lifted.begin(), frames[f].lifted.end());
+  }
+  EXPECT_EQ(lifted.size(), 4u) << "every fingertip lifts";
+}
+
+TEST(SenseCommand, BadTuioOutSpecsExitTwoNamingTheOption) {
+  struct Case {
+    std::string spec, message;
+  };
+  const Case cases[] = {
+      {"nohost", "--tuio-out nohost: TUIO output must be HOST:PORT or file:PATH"},
+      {"host:0", "--tuio-out host:0: TUIO output port must be 1 to 65535"},
+      {"file:", "--tuio-out file:: a TUIO recording needs a path"},
+      {"file:/nonexistent/dir/out.xml",
+       "--tuio-out file:/nonexistent/dir/out.xml: /nonexistent/dir/out.xml: cannot create the "
+       "TUIO recording"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.spec);
+    const auto r =
+        RunProxygrasp("sense " + kReleaseLevel + " --frames 3 --tuio-out '" + c.spec + "'");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_THAT(r.output, HasSubstr(c.message));
+    EXPECT_THAT(r.output, Not(HasSubstr("{\"frame\"")));
+  }
 }
 
 TEST(SenseCommand, SetChangesParameters) {

@@ -7,6 +7,7 @@ proxygrasp_test(run overrides)
 proxygrasp_test(run runner)
 proxygrasp_test(run recording)
 proxygrasp_test(run tuio_input)
+proxygrasp_test(run tuio_output)
 
 # every level in levels/ is a test, run through the same runner as `proxygrasp run`
 file(GLOB PROXYGRASP_LEVELS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/levels/*.toml)

@@ -2,15 +2,23 @@
 
 #include "real_data.h"
 
+#include "proxygrasp/core/units.h"
 #include "proxygrasp/tuio/decoder.h"
+#include "proxygrasp/tuio/encoder.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <map>
 #include <set>
+#include <sstream>
+#include <unistd.h>
 
 namespace pg {
 namespace {
@@ -83,6 +91,8 @@ TEST(TouchlibXml, ErrorsNameTheLineAndColumn) {
        "VALUE \"x\" is not a number"},
       {"<OSCPACKET><MESSAGE NAME=\"/a\"><ARGUMENT TYPE=\"b\" VALUE=\"00\"/>", "t.xml:1:31",
        "unsupported ARGUMENT TYPE \"b\""},
+      {"<OSCPACKET><MESSAGE NAME=\"/a\"><ARGUMENT TYPE=\"t\" VALUE=\"-1\"/>", "t.xml:1:31",
+       "VALUE \"-1\" is not a time tag"},
       {"<OSCPACKET><MESSAGE NAME=\"/a\"><ARGUMENT VALUE=\"1\"/>", "t.xml:1:31",
        "ARGUMENT needs a one-letter TYPE"},
       {"<OSCPACKET><MESSAGE NAME=\"/a\"><ARGUMENT TYPE=\"i\"/>", "t.xml:1:31",
@@ -113,6 +123,243 @@ TEST(TouchlibXml, AMissingFileIsAnError) {
   Result<std::vector<OscBundle>> r = ReadTouchlibXml("/nonexistent/tuio.xml");
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().Format(), "/nonexistent/tuio.xml: cannot open the TUIO recording");
+}
+
+// ---- the writer ----
+
+// a file name in the temporary folder, unique to this process
+std::string TempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("pg_touchlib_" + std::to_string(getpid()) + "_" + name))
+      .string();
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// true when two numbers are the same bits (NaN equal to NaN, -0 apart from 0)
+bool SameBits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+// the bundles as the reader gives them back: every field, time tags included
+void ExpectSameBundles(const std::vector<OscBundle>& got, const std::vector<OscBundle>& want) {
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t b = 0; b < want.size(); ++b) {
+    SCOPED_TRACE("bundle " + std::to_string(b));
+    EXPECT_EQ(got[b].time, want[b].time);
+    ASSERT_EQ(got[b].messages.size(), want[b].messages.size());
+    for (size_t m = 0; m < want[b].messages.size(); ++m) {
+      const OscMessage& g = got[b].messages[m];
+      const OscMessage& w = want[b].messages[m];
+      SCOPED_TRACE(FormatOscMessage(w));
+      EXPECT_EQ(g.address, w.address);
+      ASSERT_EQ(g.Types(), w.Types());
+      for (size_t k = 0; k < w.args.size(); ++k) {
+        const OscArg& x = g.args[k];
+        const OscArg& y = w.args[k];
+        SCOPED_TRACE("argument " + std::to_string(k));
+        if (y.IsInt()) {
+          EXPECT_EQ(x.i, y.i);
+        } else if (y.type == 'f') {
+          EXPECT_TRUE(SameBits(static_cast<float>(x.f), static_cast<float>(y.f)))
+              << x.f << " vs " << y.f;
+        } else if (y.type == 'd') {
+          EXPECT_TRUE(SameBits(x.f, y.f)) << x.f << " vs " << y.f;
+        } else if (y.IsString()) {
+          EXPECT_EQ(x.s, y.s);
+        } else if (y.type == 't') {
+          EXPECT_EQ(x.t, y.t);
+        }
+      }
+    }
+  }
+}
+
+// writes the bundles to a file and reads them back
+std::vector<OscBundle> WriteAndRead(const std::vector<OscBundle>& bundles,
+                                    const std::string& name) {
+  const std::string path = TempPath(name);
+  {
+    TouchlibXmlWriter writer;
+    EXPECT_FALSE(writer.Open(path));
+    for (const OscBundle& b : bundles) EXPECT_FALSE(writer.Append(b));
+    EXPECT_EQ(writer.packets(), static_cast<int64_t>(bundles.size()));
+    EXPECT_FALSE(writer.Close());
+  }
+  Result<std::vector<OscBundle>> r = ReadTouchlibXml(path);
+  std::remove(path.c_str());
+  EXPECT_TRUE(r.ok()) << r.error().Format();
+  return r.ok() ? r.value() : std::vector<OscBundle>{};
+}
+
+TEST(TouchlibXmlWriter, EveryArgumentTypeAndTimeTagReadsBackEqual) {
+  OscArg symbol = OscArg::String("sym<bol>");
+  symbol.type = 'S';
+  std::vector<OscBundle> bundles = {
+      {OscTimeTag{0, 1},  // "immediately"
+       {{"/ints",
+         {OscArg::Int(0), OscArg::Int(std::numeric_limits<int32_t>::min()),
+          OscArg::Int(std::numeric_limits<int32_t>::max()), OscArg::Int64(-1),
+          OscArg::Int64(std::numeric_limits<int64_t>::min()),
+          OscArg::Int64(std::numeric_limits<int64_t>::max())}},
+        {"/floats",
+         {OscArg::Float(0.1f), OscArg::Float(-0.0f), OscArg::Float(1.0f / 3.0f),
+          OscArg::Float(std::numeric_limits<float>::denorm_min()),
+          OscArg::Float(std::numeric_limits<float>::max()),
+          OscArg::Float(std::numeric_limits<float>::quiet_NaN()),
+          OscArg::Float(-std::numeric_limits<float>::infinity())}},
+        {"/doubles",
+         {OscArg::Double(0.1), OscArg::Double(1.0 / 3.0), OscArg::Double(-1e-300),
+          OscArg::Double(std::numeric_limits<double>::denorm_min()),
+          OscArg::Double(std::numeric_limits<double>::max()),
+          OscArg::Double(std::numeric_limits<double>::infinity())}}}},
+      {OscTimeTag::FromSeconds(12.345),
+       {{"/strings",
+         {OscArg::String("a & b < c > d \" e ' f"), OscArg::String("&amp; is not unescaped twice"),
+          OscArg::String("tab\tnew\nline\r"), OscArg::String(""), OscArg::String("caf\xc3\xa9"),
+          symbol}},
+        {"/others",
+         {OscArg::Time(OscTimeTag{3900000000u, 5}), OscArg::Other('T'), OscArg::Other('F'),
+          OscArg::Other('N'), OscArg::Other('I'), OscArg::Time(OscTimeTag{0, 0})}},
+        {"/no/args", {}}}},
+      {OscTimeTag{0xffffffffu, 0xffffffffu}, {}},  // the largest time tag, no message
+      {OscTimeTag{0, 0}, {{"/a&b<c>", {OscArg::Int(7)}}}},
+  };
+  ExpectSameBundles(WriteAndRead(bundles, "types.xml"), bundles);
+}
+
+TEST(TouchlibXmlWriter, WritesTouchlibsLayoutWithTheRawTimeTag) {
+  const std::string path = TempPath("layout.xml");
+  TouchlibXmlWriter writer;
+  ASSERT_FALSE(writer.Open(path, "10.0.0.2", 3333));
+  ASSERT_FALSE(writer.Append(
+      {OscTimeTag{1, 2}, {{"/tuio/2Dcur", {OscArg::String("fseq"), OscArg::Int(7)}}}}));
+  ASSERT_FALSE(writer.Close());
+  EXPECT_FALSE(writer.Close()) << "closing twice is harmless";
+  EXPECT_EQ(ReadText(path),
+            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+            "<OSCPackets>\n"
+            "  <OSCPACKET ADDRESS=\"10.0.0.2\" PORT=\"3333\" TIME=\"4294967298\">\n"
+            "    <MESSAGE NAME=\"/tuio/2Dcur\">\n"
+            "      <ARGUMENT TYPE=\"s\" VALUE=\"fseq\"/>\n"
+            "      <ARGUMENT TYPE=\"i\" VALUE=\"7\"/>\n"
+            "    </MESSAGE>\n"
+            "  </OSCPACKET>\n"
+            "</OSCPackets>\n");
+  std::remove(path.c_str());
+}
+
+TEST(TouchlibXmlWriter, PacketsGoToDiskAsTheyComeAndTheDestructorEndsTheDocument) {
+  const std::string path = TempPath("stream.xml");
+  OscBundle bundle{OscTimeTag::FromSeconds(1.0), {{"/tuio2/alv", {OscArg::Int(3)}}}};
+  {
+    TouchlibXmlWriter writer;
+    ASSERT_FALSE(writer.Open(path));
+    // enough packets to pass any stdio buffer: the file grows while the writer is open
+    for (int k = 0; k < 2000; ++k) ASSERT_FALSE(writer.Append(bundle));
+    EXPECT_GT(std::filesystem::file_size(path), 100000u);
+  }
+  Result<std::vector<OscBundle>> r = ReadTouchlibXml(path);
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  EXPECT_EQ(r.value().size(), 2000u);
+  std::remove(path.c_str());
+}
+
+TEST(TouchlibXmlWriter, AnEmptyRecordingIsADocumentOfNoPackets) {
+  EXPECT_TRUE(WriteAndRead({}, "empty.xml").empty());
+}
+
+TEST(TouchlibXmlWriter, EncodedFramesReplayAsTheSameFrames) {
+  // three frames of two contours from the encoder (frm carries a time tag argument), the second
+  // contour lifting in the last
+  TuioEncoderParams params;
+  params.cursors11 = true;
+  TuioEncoder encoder(params);
+  auto disc = [](TuioSessionId id, Vec2 c, double r) {
+    TuioOutContact out;
+    out.id = id;
+    out.centroid = c;
+    for (int k = 0; k < 40; ++k) {
+      const double t = 2.0 * kPi * k / 40;
+      out.contour.push_back(c + r * Vec2(std::cos(t), std::sin(t)));
+    }
+    return out;
+  };
+  std::vector<OscBundle> bundles;
+  for (int f = 0; f < 3; ++f) {
+    std::vector<TuioOutContact> contacts = {disc(4, Vec2(10 + f, 12), 1.0)};
+    if (f < 2) contacts.push_back(disc(9, Vec2(40, 30 - f), 3.0));
+    for (OscBundle& b : encoder.Encode(f, OscTimeTag::FromSeconds(f / 60.0), contacts))
+      bundles.push_back(std::move(b));
+  }
+  const std::vector<OscBundle> back = WriteAndRead(bundles, "encoded.xml");
+  ExpectSameBundles(back, bundles);
+  const std::vector<TuioFrame> want = ReplayTuio(bundles, TuioParams());
+  const std::vector<TuioFrame> got = ReplayTuio(back, TuioParams());
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t f = 0; f < want.size(); ++f) {
+    EXPECT_EQ(got[f].frame, want[f].frame);
+    EXPECT_EQ(got[f].lifted, want[f].lifted);
+    ASSERT_EQ(got[f].contacts.size(), want[f].contacts.size());
+    for (size_t c = 0; c < want[f].contacts.size(); ++c) {
+      EXPECT_EQ(got[f].contacts[c].id, want[f].contacts[c].id);
+      EXPECT_EQ(got[f].contacts[c].isNew, want[f].contacts[c].isNew);
+      EXPECT_EQ(got[f].contacts[c].contour, want[f].contacts[c].contour);
+    }
+  }
+}
+
+TEST(TouchlibXmlWriter, AFileThatCannotBeCreatedIsAnErrorNamingIt) {
+  TouchlibXmlWriter writer;
+  MaybeError e = writer.Open("/nonexistent/folder/out.xml");
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->Format(),
+            "/nonexistent/folder/out.xml: cannot create the TUIO recording: No such file or "
+            "directory");
+  EXPECT_FALSE(writer.IsOpen());
+  // a folder where the file should be, and a file where a folder should be (root may write
+  // anywhere else)
+  const std::string dir = TempPath("a_folder");
+  std::filesystem::create_directories(dir);
+  e = writer.Open(dir);
+  ASSERT_TRUE(e);
+  EXPECT_THAT(e->Format(), HasSubstr(dir + ": cannot create the TUIO recording"));
+  std::filesystem::remove(dir);
+  const std::string file = TempPath("a_file");
+  std::ofstream(file) << "x";
+  e = writer.Open(file + "/out.xml");
+  ASSERT_TRUE(e);
+  EXPECT_THAT(e->Format(), HasSubstr(file + "/out.xml: cannot create the TUIO recording"));
+  std::remove(file.c_str());
+  EXPECT_THAT(writer.Append({}).value().message, HasSubstr("not open"));
+}
+
+TEST(TouchlibXmlWriter, ABundleItCannotHoldIsAnErrorAndLeavesNothingBehind) {
+  const std::string path = TempPath("partial.xml");
+  TouchlibXmlWriter writer;
+  ASSERT_FALSE(writer.Open(path));
+  const OscBundle good{OscTimeTag{0, 1}, {{"/ok", {OscArg::Int(1)}}}};
+  ASSERT_FALSE(writer.Append(good));
+  MaybeError e =
+      writer.Append({OscTimeTag{0, 1},
+                     {{"/ok", {OscArg::Int(2)}}, {"/blob", {OscArg::Int(1), OscArg::Other('b')}}}});
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->Format(), path +
+                             ": /blob argument 1: type 'b' cannot be recorded (types i h f d s S "
+                             "t T F N I)");
+  e = writer.Append({OscTimeTag{0, 1}, {{"/nul", {OscArg::String(std::string("a\0b", 3))}}}});
+  ASSERT_TRUE(e);
+  EXPECT_THAT(e->message, HasSubstr("/nul argument 0: a string holding a NUL byte"));
+  ASSERT_FALSE(writer.Close());
+  Result<std::vector<OscBundle>> r = ReadTouchlibXml(path);
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  ExpectSameBundles(r.value(), {good});
+  std::remove(path.c_str());
 }
 
 // ---- the recorded streams from a real table (../shared/real/touchlib) ----
@@ -280,6 +527,15 @@ TEST_P(TouchlibReplay, ReplayTuioGivesTheSameFrames) {
   const std::vector<TuioFrame> frames = ReplayTuio(r.value(), TuioParams());
   ASSERT_EQ(static_cast<int>(frames.size()), rec.packets);
   EXPECT_NEAR(frames.back().time, (rec.packets - 1) / 60.0, 1e-9);
+}
+
+TEST_P(TouchlibReplay, WrittenBackItReadsTheSamePackets) {
+  const Recording& rec = GetParam();
+  const std::string dir = RealDataDir();
+  if (dir.empty()) GTEST_SKIP() << kNoRealData;
+  Result<std::vector<OscBundle>> r = ReadTouchlibXml(dir + "/" + rec.file);
+  ASSERT_TRUE(r.ok()) << r.error().Format();
+  ExpectSameBundles(WriteAndRead(r.value(), "rewritten.xml"), r.value());
 }
 
 INSTANTIATE_TEST_SUITE_P(Recordings, TouchlibReplay, ::testing::ValuesIn(kRecordings),

@@ -40,6 +40,10 @@ struct AppOptions {
   bool realtime = true;            ///< pace frames at the level's frame rate
   double reloadInterval = 0.25;    ///< s between checks of the level files for changes
   ViewOptions view;                ///< the overlays shown at start
+  /// "HOST:PORT" (UDP) or "file:PATH" (a touchlib XML recording): every stepped frame's contacts
+  /// also go out as TUIO (run/tuio_output.h); "" sends nothing.
+  std::string tuioOut;
+  bool tuioCursors = false;  ///< with tuioOut, also TUIO 1.1 /tuio/2Dcur cursors
 };
 
 /// The app. Only one may be open at a time (SDL and Dear ImGui keep process-wide state).
@@ -51,7 +55,8 @@ class App {
   App& operator=(const App&) = delete;
 
   /// Opens the window with a software renderer and starts the level. Errors say why: no display
-  /// (SDL's message), a bad level file (file:line:col: message), a bad --set, a bad input spec.
+  /// (SDL's message), a bad level file (file:line:col: message), a bad --set, a bad input spec,
+  /// a TUIO output that cannot be opened.
   MaybeError Open(const AppOptions& options);
 
   /// One frame: events, queued requests, the level file check, one pipeline step (unless

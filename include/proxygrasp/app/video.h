@@ -22,8 +22,9 @@ struct VideoOptions {
 };
 
 /// Runs every run of the level as RunLevel does and draws the first run's frames into the video
-/// and the PNG. Errors name the level or the output file that could not be written.
+/// and the PNG; `observer`, when given, sees each of the first run's frames after it is drawn.
+/// Errors name the level or the output file that could not be written.
 Result<LevelResult> RunLevelToVideo(const Level& level, const RunOptions& options,
-                                    const VideoOptions& video);
+                                    const VideoOptions& video, const FrameObserver& observer = {});
 
 }  // namespace pg
