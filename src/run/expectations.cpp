@@ -188,6 +188,9 @@ ExpectationResult Evaluator::Check(const Expectation& e, const Simulation& sim) 
       const double fraction = total > 0 ? static_cast<double>(resting) / total : 0.0;
       r.measured = std::to_string(resting) + "/" + std::to_string(total) + " particles (" +
                    FormatFixed(100.0 * fraction, 0) + "%)";
+      // the loader checks that the contact is down then, so no particle means that the input
+      // does not draw the script's contacts (a TUIO stream or a video names none of them)
+      if (total == 0) r.measured += ": none of script contact '" + e.contact + "'";
       r.passed = total > 0 && fraction >= e.fraction;
       break;
     }

@@ -1,5 +1,6 @@
 #include "proxygrasp/run/expectations.h"
 
+#include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/simulation.h"
 
 #include <gmock/gmock.h>
@@ -88,6 +89,35 @@ TEST(Evaluator, ChecksEachExpectationWhenDueAndCountsOnlyTheLastHeldFrames) {
   EXPECT_EQ(results[2].measured, "0.000 cm");
   EXPECT_FALSE(results[3].passed);
   EXPECT_EQ(results[3].measured, "run ended at 0.500 s");
+}
+
+TEST(Evaluator, ARestingContactThatLeftNoParticleSaysWhichContactItLookedFor) {
+  // a level whose script has a fingertip, run from an input that does not draw the script (here
+  // contours that hold no contact; a TUIO stream or a video is the same): the resting
+  // expectation finds no particle of the fingertip, fails, and says whose particles it looked for
+  const Level level = test::ParseOrFail(test::FingerToml("finger", 10, 10, 0, 12, 10, 0.5) + R"(
+[script]
+duration = 1
+
+[[expect]]
+kind = "resting"
+contact = "finger"
+on = "table"
+at = 0.4
+)",
+                                        "resting.toml");
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  Evaluator evaluator(level, LevelRuns(level)[0], sim);
+  std::vector<ExpectationResult> results;
+  FrameInput nothing = FrameInput::Contours();
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_TRUE(nothing.Step(sim).ok());
+    evaluator.AfterFrame(sim, sim.Time(), results);
+  }
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_FALSE(results[0].passed);
+  EXPECT_EQ(results[0].measured, "0/0 particles (0%): none of script contact 'finger'");
 }
 
 }  // namespace
