@@ -350,7 +350,9 @@ BenchMachine DescribeBenchMachine() {
   while (std::getline(cpuinfo, line)) {
     if (line.rfind("model name", 0) != 0) continue;
     const size_t colon = line.find(':');
-    if (colon != std::string::npos) m.cpu = line.substr(line.find_first_not_of(" \t", colon + 1));
+    const size_t value =
+        colon == std::string::npos ? colon : line.find_first_not_of(" \t", colon + 1);
+    if (value != std::string::npos) m.cpu = line.substr(value);
     break;
   }
   m.cores = static_cast<int>(std::thread::hardware_concurrency());
