@@ -16,5 +16,6 @@ void AddSenseCommand(CLI::App& app, int& exitCode);
 void AddRunCommand(CLI::App& app, int& exitCode);
 void AddPlayCommand(CLI::App& app, int& exitCode);
 void AddCalibrateCommand(CLI::App& app, int& exitCode);
+void AddBenchCommand(CLI::App& app, int& exitCode);
 
 }  // namespace pg

@@ -272,12 +272,19 @@ void LayeredWorld::StepFrame() {
 
   // substeps: control, step the layers, couple, support
   const int S = w.params.substeps;
+  w.box2dMs = 0.0;
   for (int s = 0; s < S; ++s) {
     w.ApplyKinematicControl(static_cast<double>(s + 1) / S);
     w.PrepareMassSplitting();
     w.PrepareTableFriction();
     w.ApplyPushes();
-    w.StepLayers();
+    if (w.box2dClock) {
+      const Stopwatch watch(*w.box2dClock);
+      w.StepLayers();
+      w.box2dMs += watch.Ms();
+    } else {
+      w.StepLayers();
+    }
     w.Couple();
     w.CollectRecords(s == S - 1);
     w.UpdateSupport();
@@ -601,6 +608,14 @@ bool LayeredWorld::SlicesAgree() const {
     }
   }
   return true;
+}
+
+void LayeredWorld::SetBox2DClock(std::optional<TimerClock> clock) {
+  m_impl->box2dClock = clock;
+}
+
+double LayeredWorld::Box2DMs() const {
+  return m_impl->box2dMs;
 }
 
 void LayeredWorld::SetSubstepObserver(std::function<void(int)> observer) {

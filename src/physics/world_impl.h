@@ -12,6 +12,7 @@
 #include <box2d/box2d.h>
 
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -188,6 +189,8 @@ struct LayeredWorld::Impl {
   /// per object, the particles resting on its top in this substep (set by PrepareTableFriction)
   std::vector<std::vector<int>> onTop;
   std::function<void(int)> observer;
+  std::optional<TimerClock> box2dClock;  ///< times StepLayers when set
+  double box2dMs = 0.0;                  ///< time in StepLayers during the last frame, ms
 
   int LayerCount() const { return static_cast<int>(layers.size()); }
   /// Layer whose bodies rest on a surface at height z.

@@ -165,7 +165,7 @@ MaybeError Simulation::Process(const cv::Mat& frame) {
   const bool instant = m_params.proxies.mode == ProxyMode::kInstant;
 
   // sensing: frame -> contours in table cm
-  Stopwatch watch;
+  Stopwatch watch(m_options.stageClock);
   Result<ContourFrame> sensed = m_sensor.Step(frame, m_frame, stats.time, instant);
   if (!sensed.ok()) return sensed.error();
   m_contours = std::move(sensed.value());
@@ -176,10 +176,10 @@ MaybeError Simulation::Process(const cv::Mat& frame) {
 void Simulation::ProcessContours(FrameStats& stats, double senseMs, const ContactSet* tracked) {
   const bool instant = m_params.proxies.mode == ProxyMode::kInstant;
   stats.senseMs = senseMs;
-  Stopwatch total;
+  Stopwatch total(m_options.stageClock);
 
   // tracking: stable contact ids
-  Stopwatch watch;
+  Stopwatch watch(m_options.stageClock);
   m_contacts = tracked ? *tracked : m_tracker.Step(m_contours);
   stats.trackMs = watch.Ms();
   AttributeContacts();

@@ -12,7 +12,7 @@ using ::testing::HasSubstr;
 TEST(Main, HelpListsSubcommands) {
   const auto r = RunProxygrasp("--help");
   EXPECT_EQ(r.exitCode, 0);
-  for (const char* sub : {"params", "sense", "run", "play", "calibrate"}) {
+  for (const char* sub : {"params", "sense", "run", "play", "calibrate", "bench"}) {
     EXPECT_THAT(r.output, HasSubstr(sub));
   }
 }

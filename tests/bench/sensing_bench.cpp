@@ -1,6 +1,7 @@
 // Sensing plus tracking of one 640x480 frame: Sensor::Process + Tracker::Update on frames rendered
 // beforehand by the synthetic table camera. Targets (issue #3): <= 1 ms with ten fingertips, <= 1.5
 // ms with two flat hands, on one core. Run pinned: taskset -c 0 build/release/bench_sensing
+#include "proxygrasp/run/bench.h"
 #include "proxygrasp/sensing/sensor.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 #include "proxygrasp/tracking/tracker.h"
@@ -116,8 +117,8 @@ BENCHMARK(BM_RenderClearTable)->Unit(benchmark::kMicrosecond)->MeasureProcessCPU
 // The filter chain of issue 14 side by side: the whole sensing stage (Sensor::Step with the
 // default chain: background subtraction, smoothing, high-pass, gain, threshold, opening, contours,
 // sub-pixel edges, table mapping, resampling, background learning) against the same filters as
-// bare OpenCV calls ending at findContours. Target: the sensing stage within 1.5x of the bare
-// chain.
+// bare OpenCV calls ending at findContours (BareSensingChain, run/bench.h). Target: the sensing
+// stage within 1.5x of the bare chain.
 // both run the real-table settings of docs/sensing.md (RealTableSensingParams)
 
 void BM_ChainSensingStage(benchmark::State& state) {
@@ -143,34 +144,16 @@ void BM_ChainSensingStage(benchmark::State& state) {
 void BM_ChainBareOpenCV(benchmark::State& state) {
   cv::setNumThreads(0);
   const Recording rec = Record("fingers", 0.0);
-  const SensingParams p = RealTableSensingParams();
-  // the same sizes in pixels as the sensor uses (61 cm over 640 px)
-  const double pxPerCm = 640.0 / TableParams{}.width;
-  const double sigma = p.smooth * pxPerCm;
-  const int width = static_cast<int>(std::lround(p.highpassWidth * pxPerCm)) | 1;
-  const cv::Mat kernel = cv::getStructuringElement(
-      cv::MORPH_ELLIPSE, cv::Size(2 * p.morphology + 1, 2 * p.morphology + 1));
-  cv::Mat diff, smooth, wide, high, gained, binary;
-  std::vector<std::vector<cv::Point>> contours;
+  // the same chain `proxygrasp bench` compares the sensing stage with
+  BareSensingChain chain(RealTableSensingParams(), TableParams{}, rec.background);
   int64_t index = 0;
+  size_t contours = 0;
   for (auto _ : state) {
-    const cv::Mat& frame = rec.frames[index % kFrames];
-    cv::absdiff(frame, rec.background, diff);
-    if (sigma >= 0.3)
-      cv::GaussianBlur(diff, smooth, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
-    else
-      smooth = diff;
-    cv::blur(smooth, wide, cv::Size(width, width), cv::Point(-1, -1), cv::BORDER_REPLICATE);
-    cv::min(wide, p.highpassCap, wide);
-    cv::subtract(smooth, wide, high);
-    high.convertTo(gained, CV_8UC1, p.gain);
-    cv::threshold(gained, binary, p.threshold, 255, cv::THRESH_BINARY);
-    cv::morphologyEx(binary, binary, cv::MORPH_OPEN, kernel);
-    cv::findContours(binary, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-    benchmark::DoNotOptimize(contours.data());
+    contours = chain.Step(rec.frames[index % kFrames]);
+    benchmark::DoNotOptimize(contours);
     ++index;
   }
-  state.counters["contacts"] = static_cast<double>(contours.size());
+  state.counters["contacts"] = static_cast<double>(contours);
 }
 
 BENCHMARK(BM_ChainSensingStage)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();

@@ -1,5 +1,5 @@
 proxygrasp_bench(physics LIBS pg_physics)
 proxygrasp_bench(proxies LIBS pg_proxies)
-proxygrasp_bench(sensing LIBS pg_tracking)
+proxygrasp_bench(sensing LIBS pg_run)
 proxygrasp_bench(churn LIBS pg_run)
 proxygrasp_bench(tuio LIBS pg_run)

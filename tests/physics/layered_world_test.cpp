@@ -37,6 +37,22 @@ TEST(Build, BadObjectGivesErrorAtItsPlaceAndLeavesWorldEmpty) {
   w.StepFrame();
 }
 
+TEST(Build, Box2DStepsAreTimedOnlyWhenAsked) {
+  PhysicsParams p;
+  LayeredWorld w;
+  MustBuild(w, p, {Box("box", 10, 10)});
+  w.StepFrame();
+  EXPECT_EQ(w.Box2DMs(), 0.0);
+  // with a clock the time is a reading of it, whatever its size; without one again, 0
+  w.SetBox2DClock(TimerClock::kThreadCpu);
+  w.StepFrame();
+  EXPECT_TRUE(std::isfinite(w.Box2DMs()));
+  EXPECT_GE(w.Box2DMs(), 0.0);
+  w.SetBox2DClock(std::nullopt);
+  w.StepFrame();
+  EXPECT_EQ(w.Box2DMs(), 0.0);
+}
+
 TEST(Build, OffTableObjectAndBadParamsAreErrors) {
   PhysicsParams p;
   LayeredWorld w;

@@ -1,23 +1,40 @@
-// Wall-clock timing for per-stage milliseconds.
+// Timing for per-stage milliseconds: wall time, or the calling thread's CPU time.
 #pragma once
 
 #include <chrono>
+#include <ctime>
 
 namespace pg {
 
-/// Measures elapsed wall time from construction or the last Restart().
+/// What a Stopwatch measures.
+enum class TimerClock {
+  kWall,       ///< elapsed wall time (steady clock)
+  kThreadCpu,  ///< CPU time of the calling thread (CLOCK_THREAD_CPUTIME_ID)
+};
+
+/// Measures elapsed time from construction or the last Restart().
 class Stopwatch {
  public:
-  Stopwatch() : m_start(std::chrono::steady_clock::now()) {}
-  void Restart() { m_start = std::chrono::steady_clock::now(); }
+  explicit Stopwatch(TimerClock clock = TimerClock::kWall) : m_clock(clock), m_start(Now()) {}
+  void Restart() { m_start = Now(); }
   /// Milliseconds since the start.
-  double Ms() const {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - m_start)
+  double Ms() const { return Now() - m_start; }
+
+ private:
+  // the clock's reading, ms
+  double Now() const {
+    if (m_clock == TimerClock::kThreadCpu) {
+      timespec t{};
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+      return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+    }
+    return std::chrono::duration<double, std::milli>(
+               std::chrono::steady_clock::now().time_since_epoch())
         .count();
   }
 
- private:
-  std::chrono::steady_clock::time_point m_start;
+  TimerClock m_clock;
+  double m_start;
 };
 
 }  // namespace pg

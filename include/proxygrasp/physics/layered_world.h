@@ -7,12 +7,14 @@
 
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/core/table.h"
+#include "proxygrasp/core/timer.h"
 #include "proxygrasp/physics/types.h"
 #include "proxygrasp/proxies/types.h"
 
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -104,6 +106,13 @@ class LayeredWorld : public SceneQuery {
 
   /// Test hook: true when every object's slices share one pose bit for bit right now.
   bool SlicesAgree() const;
+
+  /// Times each frame's Box2D stepping (the layers' b2World::Step calls, contact listeners
+  /// included) with this clock; nullopt, the default, times nothing. With the thread CPU clock and
+  /// physics.threads > 1, only the calling thread's share is counted. For `proxygrasp bench`.
+  void SetBox2DClock(std::optional<TimerClock> clock);
+  /// Milliseconds the last frame spent in b2World::Step, by the clock set (0 when none is).
+  double Box2DMs() const;
 
   /// Test hook: called after every substep (coupling included) with the substep index.
   void SetSubstepObserver(std::function<void(int)> observer);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "proxygrasp/core/error.h"
+#include "proxygrasp/core/timer.h"
 #include "proxygrasp/level/level.h"
 #include "proxygrasp/level/params.h"
 #include "proxygrasp/physics/layered_world.h"
@@ -23,7 +24,8 @@
 
 namespace pg {
 
-/// Counts and per-stage wall times of one frame, as frames.csv records them.
+/// Counts and per-stage times of one frame, as frames.csv records them: wall ms, or the stepping
+/// thread's CPU ms when SimulationOptions::stageClock says so.
 struct FrameStats {
   int64_t frame = 0;     ///< frame number from 0
   double time = 0.0;     ///< s, at the start of the frame
@@ -58,6 +60,9 @@ struct SimulationOptions {
   /// calibration brings none, the synthetic camera's clear table is the sensor's background.
   /// Off for frames from a real camera or footage, which that background does not fit.
   bool cameraBackground = true;
+  /// What FrameStats' stage times measure: wall time, or the CPU time of the thread that steps
+  /// (`proxygrasp bench`; physics worker threads are not counted).
+  TimerClock stageClock = TimerClock::kWall;
 };
 
 /// One run of a level through the pipeline.
