@@ -40,6 +40,8 @@ Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptio
           : static_cast<int64_t>(std::ceil(level.script.duration / frameDuration - 1e-9));
   Result<FrameInput> opened =
       options.input.empty() ? FrameInput::ForLevel(level) : FrameInput::Open(options.input);
+  if (!opened.ok() && !options.input.empty())
+    return MakeError({}, "--input " + options.input + ": " + opened.error().Format());
   if (!opened.ok()) return opened.error();
   FrameInput& input = opened.value();
   if (TuioStream* tuio = input.tuio(); tuio && tuio->live()) tuio->SetWait(frameDuration);

@@ -61,6 +61,16 @@ TEST(RunCommand, MissingFileAndBadModeExitTwo) {
   EXPECT_EQ(RunProxygrasp("run " + Level("side_push.toml") + " --mode sideways").exitCode, 2);
 }
 
+TEST(RunCommand, ABadInputExitsTwoNamingTheOption) {
+  // a TUIO spec that does not parse, and an address this machine does not have
+  auto r = RunProxygrasp("run " + Level("side_push.toml") + " --input tuio:abc");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--input tuio:abc: expected tuio:PORT or tuio:ADDRESS:PORT"));
+  r = RunProxygrasp("run " + Level("side_push.toml") + " --input tuio:192.0.2.1:3333");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--input tuio:192.0.2.1:3333: cannot listen for TUIO"));
+}
+
 TEST(RunCommand, TraceFolderHoldsBothFiles) {
   const std::string dir = (std::filesystem::temp_directory_path() / "pg_cmd_run_trace").string();
   std::filesystem::remove_all(dir);
