@@ -331,8 +331,9 @@ TEST(TuioInput, AFloodOfTenThousandPacketsASecondForTwoSecondsIsCountedAndSurviv
   long rssAfterWarmup = 0;
   while (sent < total) {
     const double now = TuioClock() - start;
-    // the datagrams due by now
-    for (; sent < total && sent < now * kRate; ++sent) {
+    // the datagrams due by now, a few at a time so that a slow machine (or a sanitizer) still
+    // steps the simulation, and so reads the socket, every frame
+    for (int burst = 0; sent < total && sent < now * kRate && burst < 20; ++sent, ++burst) {
       switch (sent % 8) {
         case 3:
           sender.value()->SendBundle(nan(sent + 1));
@@ -373,7 +374,7 @@ TEST(TuioInput, AFloodOfTenThousandPacketsASecondForTwoSecondsIsCountedAndSurviv
   // many datagrams the kernel kept depend on the machine's load (and on sanitizers), so they are
   // printed, not bounded: this test is about surviving and counting, not speed
   EXPECT_GT(steps, 0);
-  EXPECT_GT(s.packets, static_cast<uint64_t>(total / 10)) << "the loopback keeps some of them";
+  EXPECT_GT(s.packets, 0u);
   EXPECT_GT(s[TuioDrop::kNonFinite], 0u);
   EXPECT_GT(s[TuioDrop::kUnknownAddress], 0u);
   EXPECT_GT(s[TuioDrop::kTooManyPoints], 0u);
