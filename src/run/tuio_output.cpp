@@ -14,6 +14,20 @@ constexpr const char* kFilePrefix = "file:";
 
 }  // namespace
 
+std::vector<TuioOutContact> ToTuioOutContacts(const ContactSet& contacts) {
+  std::vector<TuioOutContact> out;
+  for (const Contact& c : contacts.contacts) {
+    if (c.state == ContactState::kLifted) continue;
+    TuioOutContact& o = out.emplace_back();
+    o.id = c.id;
+    o.centroid = c.blob.centroid;
+    o.contour.reserve(static_cast<size_t>(c.blob.contour.cols()));
+    for (Eigen::Index k = 0; k < c.blob.contour.cols(); ++k)
+      o.contour.push_back(c.blob.contour.col(k));
+  }
+  return out;
+}
+
 TuioOutput::TuioOutput(const TuioEncoderParams& params) : m_encoder(params) {}
 
 TuioOutput::~TuioOutput() = default;
@@ -61,16 +75,7 @@ MaybeError TuioOutput::Send(const Simulation& sim) {
   m_lastSimFrame = stats.frame;
 
   // the contacts still on the table, as they were tracked
-  std::vector<TuioOutContact> contacts;
-  for (const Contact& c : sim.contacts().contacts) {
-    if (c.state == ContactState::kLifted) continue;
-    TuioOutContact& out = contacts.emplace_back();
-    out.id = c.id;
-    out.centroid = c.blob.centroid;
-    out.contour.reserve(static_cast<size_t>(c.blob.contour.cols()));
-    for (Eigen::Index k = 0; k < c.blob.contour.cols(); ++k)
-      out.contour.push_back(c.blob.contour.col(k));
-  }
+  const std::vector<TuioOutContact> contacts = ToTuioOutContacts(sim.contacts());
   MaybeError e = SendFrame(stats.frame + m_frameOffset, stats.time + m_timeOffset, contacts);
   if (!first) first = std::move(e);
   return first;

@@ -9,6 +9,7 @@
 #include "proxygrasp/level/level.h"
 #include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/simulation.h"
+#include "proxygrasp/run/tuio_output.h"
 #include "proxygrasp/tuio/encoder.h"
 #include "proxygrasp/tuio/transport.h"
 
@@ -36,17 +37,8 @@ std::vector<std::vector<OscBundle>> EncodeLevel(const Level& level) {
       static_cast<int64_t>(level.script.duration * level.params.physics.frameRate);
   for (int64_t i = 0; i < count; ++i) {
     if (!script.Step(sensed).ok()) break;
-    std::vector<TuioOutContact> out;
-    for (const Contact& c : sensed.contacts().contacts) {
-      if (c.state == ContactState::kLifted) continue;
-      TuioOutContact o;
-      o.id = c.id;
-      for (Eigen::Index k = 0; k < c.blob.contour.cols(); ++k)
-        o.contour.push_back(c.blob.contour.col(k));
-      o.centroid = c.blob.centroid;
-      out.push_back(std::move(o));
-    }
-    frames.push_back(encoder.Encode(i, OscTimeTag::FromSeconds(sensed.Time()), out));
+    frames.push_back(encoder.Encode(i, OscTimeTag::FromSeconds(sensed.Time()),
+                                    ToTuioOutContacts(sensed.contacts())));
   }
   return frames;
 }

@@ -5,6 +5,7 @@
 #include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/simulation.h"
 #include "proxygrasp/run/trace.h"
+#include "proxygrasp/run/tuio_output.h"
 #include "proxygrasp/tuio/decoder.h"
 #include "proxygrasp/tuio/encoder.h"
 #include "proxygrasp/tuio/transport.h"
@@ -203,20 +204,6 @@ Level Push() {
       "tuio_input.toml");
 }
 
-std::vector<TuioOutContact> OutContacts(const ContactSet& set) {
-  std::vector<TuioOutContact> out;
-  for (const Contact& c : set.contacts) {
-    if (c.state == ContactState::kLifted) continue;
-    TuioOutContact o;
-    o.id = c.id;
-    for (Eigen::Index k = 0; k < c.blob.contour.cols(); ++k)
-      o.contour.push_back(c.blob.contour.col(k));
-    o.centroid = c.blob.centroid;
-    out.push_back(std::move(o));
-  }
-  return out;
-}
-
 TEST(TuioInput, OurSenderToOurReceiverReproducesALevelsContactsFrameForFrame) {
   // one run sensed through the camera, its contacts sent each frame over UDP on the loopback; a
   // second run of the same level takes them from tuio:127.0.0.1:PORT. The contacts match frame
@@ -248,7 +235,7 @@ TEST(TuioInput, OurSenderToOurReceiverReproducesALevelsContactsFrameForFrame) {
   int compared = 0;
   for (int i = 0; i < frames; ++i) {
     ASSERT_TRUE(script.Step(sensed).ok());
-    ASSERT_FALSE(sender.value()->Send(i, OutContacts(sensed.contacts())));
+    ASSERT_FALSE(sender.value()->Send(i, ToTuioOutContacts(sensed.contacts())));
     Result<FrameStatus> stepped = input.Step(given);
     ASSERT_TRUE(stepped.ok());
     ASSERT_EQ(stepped.value(), FrameStatus::kOk);

@@ -12,11 +12,16 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace pg {
 
 class TuioSender;
 class TouchlibXmlWriter;
+
+/// The contacts of a frame that are still down (not lifted), as TUIO sends them: session id =
+/// contact id, the contour and centroid in table cm.
+std::vector<TuioOutContact> ToTuioOutContacts(const ContactSet& contacts);
 
 /// Sends the contacts of every frame a simulation steps as TUIO, to "HOST:PORT" over UDP or to a
 /// touchlib XML recording ("file:PATH"). A bundle that cannot be sent is counted, never fatal:
