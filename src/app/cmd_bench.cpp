@@ -3,6 +3,7 @@
 #include "commands.h"
 
 #include "proxygrasp/run/bench.h"
+#include "proxygrasp/run/grasp_sweep.h"
 
 #include <fstream>
 #include <iostream>
@@ -13,13 +14,71 @@ namespace pg {
 namespace {
 
 struct BenchArgs {
-  std::string json;    // write the report here as JSON
-  std::string scenes;  // comma-separated scene names, "" for all
+  std::string suite = "pipeline";  // "pipeline" or "grasp"
+  std::string json;                // write the report here as JSON
+  std::string scenes;              // comma-separated scene names, "" for all
   int frames = 120;
   int repeat = 1;
+  // grasp
+  int count = 300;
+  uint64_t seed = 1;
+  std::string substeps = "2,4,8";
+  std::string failures;
+  int threads = 2;
+  bool ruleOnly = false;
 };
 
+int RunGraspCommand(const BenchArgs& args) {
+  GraspSweepOptions options;
+  options.scenes = args.count;
+  options.seed = args.seed;
+  options.failuresDir = args.failures;
+  options.threads = args.threads;
+  options.ruleOnly = args.ruleOnly;
+  options.substeps.clear();
+  std::istringstream counts(args.substeps);
+  for (std::string n; std::getline(counts, n, ',');) {
+    char* end = nullptr;
+    const long v = std::strtol(n.c_str(), &end, 10);
+    if (n.empty() || *end != '\0') {
+      std::cerr << "proxygrasp bench grasp: --substeps " << args.substeps
+                << ": not a comma-separated list of counts\n";
+      return kExitBadInput;
+    }
+    options.substeps.push_back(static_cast<int>(v));
+  }
+  std::ofstream json;
+  if (!args.json.empty()) {
+    json.open(args.json);
+    if (!json) {
+      std::cerr << "proxygrasp bench grasp: --json " << args.json << ": cannot write the file\n";
+      return kExitBadInput;
+    }
+  }
+  Result<GraspSweepReport> report = RunGraspSweep(options);
+  if (!report.ok()) {
+    std::cerr << "proxygrasp bench grasp: " << report.error().Format() << "\n";
+    return kExitBadInput;
+  }
+  std::cout << FormatGraspSweep(report.value());
+  if (json.is_open()) {
+    json << GraspSweepJson(report.value());
+    json.close();
+    if (!json) {
+      std::cerr << "proxygrasp bench grasp: --json " << args.json << ": writing failed\n";
+      return kExitFailed;
+    }
+    std::cout << "json: " << args.json << "\n";
+  }
+  return kExitOk;
+}
+
 int RunBenchCommand(const BenchArgs& args) {
+  if (args.suite == "grasp") return RunGraspCommand(args);
+  if (args.suite != "pipeline") {
+    std::cerr << "proxygrasp bench: unknown suite '" << args.suite << "' (pipeline or grasp)\n";
+    return kExitBadInput;
+  }
   BenchOptions options;
   options.frames = args.frames;
   options.repeat = args.repeat;
@@ -64,12 +123,24 @@ void AddBenchCommand(CLI::App& app, int& exitCode) {
       "bare OpenCV sensing, Box2D stepping and exhaustive matching");
   // CLI11 binds options by reference, so they live as long as the program
   static BenchArgs args;
+  cmd->add_option("suite", args.suite,
+                  "pipeline (default): the standard scenes; grasp: the grasp sweep (random grasp "
+                  "scenes scored against the analytic hold rule, docs/physics.md)");
   cmd->add_option("--json", args.json, "Write the figures to this JSON file");
   cmd->add_option("--frames", args.frames, "Timed frames per scene (default 120)");
   cmd->add_option("--repeat", args.repeat, "Runs of each scene, pooled (default 1)");
   cmd->add_option("--scenes", args.scenes,
                   "Comma-separated scenes (default all: fingertips10_s3, flat_hands2_s3_k8, "
                   "five_hands4_s3, flat_hands8)");
+  cmd->add_option("--count", args.count, "grasp: scenes to generate (default 300)");
+  cmd->add_option("--seed", args.seed, "grasp: seed of the scenes (default 1)");
+  cmd->add_option("--substeps", args.substeps,
+                  "grasp: comma-separated substep counts to run each scene at (default 2,4,8)");
+  cmd->add_option("--failures", args.failures,
+                  "grasp: write each scene the rule got wrong to this folder as a level file");
+  cmd->add_option("--threads", args.threads, "grasp: scenes run concurrently (default 2)");
+  cmd->add_flag("--rule-only", args.ruleOnly,
+                "grasp: classify the scenes by the hold rule without running them");
   cmd->callback([&exitCode] { exitCode = RunBenchCommand(args); });
 }
 

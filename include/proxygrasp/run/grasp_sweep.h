@@ -1,0 +1,154 @@
+// The grasp sweep (issue 15; `proxygrasp bench grasp`): random grasp scenes generated from a seed,
+// each classified before it runs by an analytic rule (can the grip's friction hold against table
+// friction and inertia, with the grip model's bounded force?), then run through the whole pipeline
+// and scored: held scenes must follow the grip's rigid motion, the others must slip, and no object
+// may move much faster than the fastest contact. The rule is derived in docs/physics.md, "Grasp
+// sweep".
+#pragma once
+
+#include "proxygrasp/core/error.h"
+#include "proxygrasp/core/geometry.h"
+#include "proxygrasp/physics/types.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pg {
+
+/// The object of a grasp scene.
+enum class GraspShape { kBox, kCylinder, kSphere, kTriangle, kHexagon };
+inline constexpr const char* kGraspShapeNames[] = {"box", "cylinder", "sphere", "triangle",
+                                                   "hexagon"};
+
+/// How the object is gripped. kOpposed: fingertips on two opposite faces, `nearCount` on the
+/// near one (a thumb and one, two or three fingers); kCaged: three fingertips at 120 degrees.
+enum class GraspGrip { kOpposed, kCaged };
+
+/// What the grip does once it holds the object.
+enum class GraspMotion {
+  kCarry,  ///< moves rigidly along a direction
+  kTurn,   ///< turns rigidly about the object's centre
+  kPush,   ///< holds still while a third fingertip pushes into the object across the grip
+};
+inline constexpr const char* kGraspMotionNames[] = {"carry", "turn", "push"};
+
+/// A fingertip of a scene: a round contact whose contour ends `depth` inside a face.
+struct GraspFinger {
+  Vec2 pos = Vec2::Zero();     ///< centre where it grips, object frame at the start, cm
+  Vec2 inward = Vec2::Zero();  ///< unit direction it presses in (into the object), object frame
+  double radius = 0.8;         ///< cm
+};
+
+/// One generated scene. Times in s from the start of the level.
+struct GraspScene {
+  int index = 0;
+  uint64_t seed = 0;
+  GraspShape shape = GraspShape::kBox;
+  ObjectSpec object;  ///< pose, size, mass and frictions
+  GraspGrip grip = GraspGrip::kOpposed;
+  double depth = 0.5;  ///< how far each gripping contour ends inside its face, cm
+  std::vector<GraspFinger> fingers;
+  GraspMotion motion = GraspMotion::kCarry;
+  Vec2 direction = Vec2::UnitX();  ///< carry: unit direction, table frame
+  double distance = 0.0;           ///< carry: cm
+  double speed = 0.0;              ///< carry: peak speed, cm/s
+  double turn = 0.0;               ///< turn: signed angle, rad
+  double turnRate = 0.0;           ///< turn: peak rate, rad/s
+  GraspFinger pusher;              ///< push: the third fingertip at its deepest
+  double pushDepth = 0.0;          ///< push: how far its contour ends inside its face, cm
+  double moveStart = 0.0;          ///< when the motion (or the push's approach) starts, s
+  double moveEnd = 0.0;            ///< when it ends, s
+  double duration = 0.0;           ///< of the level, s
+};
+
+/// What the rule says of a scene, before it runs (docs/physics.md, "Grasp sweep").
+struct GraspPrediction {
+  double normalForce = 0.0;   ///< sum of the gripping fingers' normal forces at rest, dyn
+  double capacity = 0.0;      ///< what the grip can supply: dyn, or dyn cm for a turn
+  double requirement = 0.0;   ///< what the motion needs: dyn, or dyn cm for a turn
+  double margin = 0.0;        ///< capacity / requirement (infinity when nothing is required)
+  bool canHold = false;       ///< margin >= 1
+  bool nearBoundary = false;  ///< margin within 20% of 1 (0.8 .. 1.2): reported apart, not scored
+};
+
+/// What a scene did when run.
+struct GraspOutcome {
+  double endError = 0.0;       ///< cm, from the pose the grip's rigid motion carries it to
+  double endAngleError = 0.0;  ///< rad, absolute
+  double peakSpeed = 0.0;      ///< fastest object centre of mass, cm/s
+  double contactSpeed = 0.0;   ///< fastest scripted contact centre, cm/s
+  bool followed = false;       ///< endError <= 1 cm and endAngleError <= 5 degrees
+  bool ejected = false;        ///< peakSpeed > 1.5 contactSpeed + 5 cm/s
+};
+
+/// Scenes are generated from this seed and their index in the sweep.
+GraspScene GenerateGraspScene(uint64_t seed, int index);
+
+/// The normal force, dyn (a vector in the object frame), of one fingertip centred at `center`
+/// (object frame) pressing the object's layer-0 slice, by the grip model: each contour point
+/// within the particle radius of the slice presses with k min(d + r, d_max) along the face's
+/// inward normal, d its depth; averaged over where the contour's samples (every `spacing`) fall.
+/// For a polygon the face is the one `inward` meets; points beyond its ends press nothing.
+Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                    const Vec2& center, double radius, const Vec2& inward);
+
+/// The rule, evaluated at the parameters' grip stiffness, depth limit, particle radius and the
+/// contour spacing.
+GraspPrediction PredictGrasp(const GraspScene& scene, const PhysicsParams& physics, double spacing);
+
+/// The scene as a level file (the fingers' keyframes every 1/30 s), with the rule's figures in
+/// comments and, when it can hold, the expectations that it follows the grip.
+std::string GraspSceneToml(const GraspScene& scene, const GraspPrediction& prediction);
+
+/// Runs a scene through the whole pipeline (synthetic camera to physics) at `substeps`.
+Result<GraspOutcome> RunGraspScene(const GraspScene& scene, int substeps);
+
+/// What a sweep does.
+struct GraspSweepOptions {
+  uint64_t seed = 1;
+  int scenes = 300;
+  std::vector<int> substeps = {2, 4, 8};
+  std::string failuresDir;  ///< writes each failing scene here as a level file; "" writes none
+  int threads = 1;          ///< scenes run concurrently
+  bool ruleOnly = false;    ///< classify the scenes without running them
+};
+
+/// One scene's rule and its outcome at each substep count of the sweep.
+struct GraspSceneResult {
+  GraspScene scene;
+  GraspPrediction prediction;
+  std::vector<GraspOutcome> outcomes;  ///< one per GraspSweepOptions::substeps
+};
+
+/// The rates at one substep count.
+struct GraspRates {
+  int substeps = 0;
+  int holdScenes = 0;            ///< scored scenes the rule says can hold
+  int holdFollowed = 0;          ///< of those, the ones that followed the grip
+  int slipScenes = 0;            ///< scored scenes the rule says cannot hold
+  int slipSlipped = 0;           ///< of those, the ones that did not follow
+  int boundaryScenes = 0;        ///< not scored
+  int ejections = 0;             ///< every scene
+  double worstHoldError = 0.0;   ///< cm, largest end error of a hold scene
+  double worstSpeedRatio = 0.0;  ///< largest peakSpeed / (1.5 contactSpeed + 5)
+  double HoldRate() const { return holdScenes ? double(holdFollowed) / holdScenes : 1.0; }
+  double SlipRate() const { return slipScenes ? double(slipSlipped) / slipScenes : 1.0; }
+};
+
+struct GraspSweepReport {
+  GraspSweepOptions options;
+  std::vector<GraspSceneResult> scenes;
+  std::vector<GraspRates> rates;  ///< one per substep count
+};
+
+/// Generates, classifies and runs the scenes. Bad options are an Error naming them.
+Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options);
+
+/// The rates per substep count, then the failing and worst scenes.
+std::string FormatGraspSweep(const GraspSweepReport& report);
+
+/// The report as JSON: {"seed", "scenes", "rates": [{"substeps", "hold_rate", ...}], "failures"}.
+std::string GraspSweepJson(const GraspSweepReport& report);
+
+}  // namespace pg

@@ -1,0 +1,820 @@
+// The grasp sweep: scene generation, the analytic hold rule, running and scoring
+// (run/grasp_sweep.h; the rule's derivation is in docs/physics.md, "Grasp sweep").
+#include "proxygrasp/run/grasp_sweep.h"
+
+#include "proxygrasp/core/rng.h"
+#include "proxygrasp/core/units.h"
+#include "proxygrasp/level/level.h"
+#include "proxygrasp/physics/shapes.h"
+#include "proxygrasp/run/simulation.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+namespace pg {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// the scene's timeline, s
+constexpr double kApproachTime = 0.5;        // fingers move in from outside the object
+constexpr double kMoveStart = 0.9;           // the grip has settled
+constexpr double kSettleTime = 0.7;          // after the motion, before the end pose is taken
+constexpr double kKeyInterval = 1.0 / 30.0;  // keyframes during motion, s
+constexpr double kClearance = 0.6;  // gap kept between contours, and before the approach, cm
+constexpr double kPushSpeed = 6.0;  // the pusher's peak speed, cm/s
+
+// scoring (issue 15)
+constexpr double kFollowDistance = 1.0;         // cm
+constexpr double kFollowAngle = DegToRad(5.0);  // rad
+constexpr double kBoundaryBand = 0.2;           // margins within 20% of 1 are not scored
+constexpr double kSpeedFactor = 1.5;            // peak object speed against the contacts
+constexpr double kSpeedAllowance = 5.0;         // cm/s
+
+// the centre of the default 61 x 46 cm table
+const Vec2 kTableCentre(30.5, 23.0);
+
+// a contact's path: its table-frame centre at time t
+struct FingerPath {
+  double radius = 0.8;
+  double start = 0.0;  // appears, s
+  std::vector<std::pair<double, Vec2>> keys;
+};
+
+// bang-bang: constant acceleration over the first half, constant deceleration over the second
+double BangBang(double tau) {
+  tau = std::clamp(tau, 0.0, 1.0);
+  return tau < 0.5 ? 2.0 * tau * tau : 1.0 - 2.0 * (1.0 - tau) * (1.0 - tau);
+}
+
+double SmoothStep01(double tau) {
+  tau = std::clamp(tau, 0.0, 1.0);
+  return tau * tau * (3.0 - 2.0 * tau);
+}
+
+// the layer-0 slice of the object, in which fingertips on the table press
+CrossSection Slice0(const ObjectSpec& object, const PhysicsParams& physics) {
+  return SectionAt(object, SliceHeight(object, 0, physics.layerHeight));
+}
+
+// the rigid motion of the grip at time t: the pose that carries the object frame at the start
+Pose2 GripMotionAt(const GraspScene& s, double t) {
+  const double tau = (t - s.moveStart) / std::max(s.moveEnd - s.moveStart, 1e-9);
+  Pose2 m;
+  if (s.motion == GraspMotion::kCarry) {
+    m.pos = s.direction * (s.distance * BangBang(tau));
+  } else if (s.motion == GraspMotion::kTurn) {
+    // about the object's starting position: p -> c + R (p - c)
+    const double a = s.turn * BangBang(tau);
+    const Vec2 c = s.object.pose.pos;
+    m.angle = a;
+    m.pos = c - Rotate(c, a);
+  }
+  return m;
+}
+
+Vec2 ApplyMotion(const Pose2& m, const Vec2& p) {
+  return m.pos + Rotate(p, m.angle);
+}
+
+std::vector<FingerPath> Paths(const GraspScene& s) {
+  std::vector<FingerPath> paths;
+  const Pose2& pose = s.object.pose;
+  for (const GraspFinger& f : s.fingers) {
+    FingerPath path;
+    path.radius = f.radius;
+    const Vec2 grip = pose.Apply(f.pos);
+    const Vec2 in = Rotate(f.inward, pose.angle);
+    const Vec2 from = grip - in * (s.depth + kClearance);
+    for (double t = 0.0; t < kApproachTime - 1e-9; t += kKeyInterval) {
+      path.keys.emplace_back(t, from + (grip - from) * SmoothStep01(t / kApproachTime));
+    }
+    path.keys.emplace_back(kApproachTime, grip);
+    if (s.motion != GraspMotion::kPush) {
+      for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) {
+        path.keys.emplace_back(t, ApplyMotion(GripMotionAt(s, t), grip));
+      }
+      path.keys.emplace_back(s.moveEnd, ApplyMotion(GripMotionAt(s, s.moveEnd), grip));
+    }
+    path.keys.emplace_back(s.duration, ApplyMotion(GripMotionAt(s, s.duration), grip));
+    paths.push_back(std::move(path));
+  }
+  if (s.motion == GraspMotion::kPush) {
+    FingerPath path;
+    path.radius = s.pusher.radius;
+    path.start = s.moveStart;
+    const Vec2 at = pose.Apply(s.pusher.pos);
+    const Vec2 in = Rotate(s.pusher.inward, pose.angle);
+    const Vec2 from = at - in * (s.pushDepth + kClearance);
+    for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) {
+      path.keys.emplace_back(
+          t, from + (at - from) * SmoothStep01((t - s.moveStart) / (s.moveEnd - s.moveStart)));
+    }
+    path.keys.emplace_back(s.moveEnd, at);
+    path.keys.emplace_back(s.duration, at);
+    paths.push_back(std::move(path));
+  }
+  return paths;
+}
+
+// a regular polygon of n sides with circumradius R, one face normal along +x
+std::vector<Vec2> RegularPolygon(int n, double circumradius) {
+  std::vector<Vec2> pts;
+  for (int i = 0; i < n; ++i) {
+    const double a = kPi / n + 2.0 * kPi * i / n;
+    pts.emplace_back(circumradius * std::cos(a), circumradius * std::sin(a));
+  }
+  return pts;
+}
+
+// distance from the slice's centre to its boundary along the unit direction u (convex slices)
+double ReachAlong(const CrossSection& slice, const Vec2& u) {
+  if (slice.circle) return slice.radius;
+  double best = kInfinity;
+  const Contour& c = slice.outline;
+  const int n = static_cast<int>(c.cols());
+  for (int i = 0; i < n; ++i) {
+    const Vec2 a = c.col(i), b = c.col((i + 1) % n);
+    const Vec2 e = b - a;
+    const Vec2 normal = Vec2(e.y(), -e.x()).normalized();  // outward for counter-clockwise
+    const double along = normal.dot(u);
+    if (along > 1e-9) best = std::min(best, normal.dot(a) / along);
+  }
+  return best;
+}
+
+// half the length of the face the direction u meets (infinity for a circle)
+double FaceHalfLength(const CrossSection& slice, const Vec2& u) {
+  if (slice.circle) return kInfinity;
+  const Contour& c = slice.outline;
+  const int n = static_cast<int>(c.cols());
+  double best = -kInfinity, half = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const Vec2 a = c.col(i), b = c.col((i + 1) % n);
+    const Vec2 e = b - a;
+    const Vec2 normal = Vec2(e.y(), -e.x()).normalized();
+    if (normal.dot(u) > best) {
+      best = normal.dot(u);
+      half = 0.5 * e.norm();
+    }
+  }
+  return half;
+}
+
+}  // namespace
+
+Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                    const Vec2& center, double radius, const Vec2& inward) {
+  const CrossSection slice = Slice0(object, physics);
+  const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
+  const double r = physics.particleRadius;
+  // the face the fingertip presses: for a polygon the edge whose outward normal opposes `inward`
+  Vec2 faceA = Vec2::Zero(), faceDir = Vec2::Zero(), faceNormal = Vec2::Zero();
+  double faceLength = 0.0;
+  if (!slice.circle) {
+    const Contour& c = slice.outline;
+    const int n = static_cast<int>(c.cols());
+    double best = kInfinity;
+    for (int i = 0; i < n; ++i) {
+      const Vec2 a = c.col(i), b = c.col((i + 1) % n);
+      const Vec2 e = b - a;
+      const Vec2 normal = Vec2(e.y(), -e.x()).normalized();
+      if (normal.dot(inward) < best) {
+        best = normal.dot(inward);
+        faceA = a;
+        faceLength = e.norm();
+        faceDir = e / faceLength;
+        faceNormal = normal;
+      }
+    }
+  }
+  // the contour has about 2 pi R / spacing points; where they fall along it varies, so average
+  // the sum over phases of the sampling
+  const int points = std::max(3, static_cast<int>(std::lround(2.0 * kPi * radius / spacing)));
+  constexpr int kPhases = 16;
+  Vec2 total = Vec2::Zero();
+  for (int phase = 0; phase < kPhases; ++phase) {
+    for (int i = 0; i < points; ++i) {
+      const double a = 2.0 * kPi * (i + static_cast<double>(phase) / kPhases) / points;
+      const Vec2 q = center + radius * Vec2(std::cos(a), std::sin(a));
+      double depth;
+      Vec2 push;
+      if (slice.circle) {
+        const double dist = q.norm();
+        if (dist < 1e-12) continue;
+        depth = slice.radius - dist;
+        push = -q / dist;
+      } else {
+        const double along = (q - faceA).dot(faceDir);
+        if (along < 0.0 || along > faceLength) continue;  // beyond the face's ends
+        depth = -(q - faceA).dot(faceNormal);
+        push = -faceNormal;
+      }
+      if (depth + r <= 0.0) continue;
+      total += push * (k * std::min(depth + r, dMax));
+    }
+  }
+  return total / kPhases;
+}
+
+GraspScene GenerateGraspScene(uint64_t seed, int index) {
+  // each scene its own stream, so that a scene does not depend on the ones before it
+  Rng rng(seed * 1000003ULL + static_cast<uint64_t>(index) * 7919ULL + 17ULL);
+  GraspScene s;
+  s.index = index;
+  s.seed = seed;
+  const PhysicsParams physics;
+  ObjectSpec& o = s.object;
+  o.name = "object";
+
+  const double pick = rng.Uniform();
+  s.shape = pick < 0.35   ? GraspShape::kBox
+            : pick < 0.55 ? GraspShape::kCylinder
+            : pick < 0.70 ? GraspShape::kSphere
+            : pick < 0.80 ? GraspShape::kTriangle
+                          : GraspShape::kHexagon;
+  const double size = rng.Uniform(2.0, 12.0);  // cm: width of a box, diameter of a round one
+  const double height = rng.Uniform(1.0, 4.0);
+  switch (s.shape) {
+    case GraspShape::kBox:
+      o.shape = ObjectShape::kBox;
+      o.sizeX = size;
+      o.sizeY = std::clamp(size * rng.Uniform(0.5, 1.5), 2.0, 12.0);
+      o.height = height;
+      break;
+    case GraspShape::kCylinder:
+      o.shape = ObjectShape::kCylinder;
+      o.radius = 0.5 * size;
+      o.height = height;
+      break;
+    case GraspShape::kSphere:
+      o.shape = ObjectShape::kSphere;
+      o.radius = 0.5 * size;
+      break;
+    case GraspShape::kTriangle:
+    case GraspShape::kHexagon:
+      o.shape = ObjectShape::kConvexPrism;
+      o.height = height;
+      for (const Vec2& p : RegularPolygon(s.shape == GraspShape::kTriangle ? 3 : 6, 0.5 * size)) {
+        o.points.push_back(p);
+      }
+      break;
+  }
+  o.mass = rng.Uniform(20.0, 300.0);
+  o.tableStatic = rng.Uniform(0.2, 0.8);
+  o.tableKinetic = o.tableStatic * rng.Uniform(0.6, 0.9);
+  // from slippery (the paper's soap) to rubbery, evenly on a log scale
+  o.particleFriction = std::exp(rng.Uniform(std::log(0.05), std::log(1.2)));
+  o.pose.angle = rng.Uniform(0.0, 2.0 * kPi);
+
+  const CrossSection slice = Slice0(o, physics);
+  const double fingerRadius = rng.Uniform(0.6, 1.0);
+  s.depth = rng.Uniform(0.1, 1.5);
+
+  // the grip: opposed on two parallel faces, or three fingertips at 120 degrees
+  const bool parallelFaces = s.shape == GraspShape::kBox || s.shape == GraspShape::kHexagon;
+  const bool round = s.shape == GraspShape::kCylinder || s.shape == GraspShape::kSphere;
+  s.grip = s.shape == GraspShape::kTriangle || (round && rng.Uniform() < 0.4) ? GraspGrip::kCaged
+                                                                              : GraspGrip::kOpposed;
+  Vec2 axis = Vec2::UnitX();  // local: the far finger (thumb) presses along +axis
+  if (s.shape == GraspShape::kBox && rng.Uniform() < 0.5) axis = Vec2::UnitY();
+  if (s.shape == GraspShape::kHexagon) {
+    // a face normal of the hexagon (faces at 0, 60, 120 degrees)
+    const double a = kPi / 3.0 * std::floor(rng.Uniform(0.0, 3.0));
+    axis = Vec2(std::cos(a), std::sin(a));
+  }
+  if (s.grip == GraspGrip::kCaged) {
+    const double a0 = s.shape == GraspShape::kTriangle ? 0.0 : rng.Uniform(0.0, 2.0 * kPi);
+    const double maxDepth = 0.5 * std::sqrt(3.0) * ReachAlong(slice, Vec2::UnitX()) - kClearance;
+    s.depth = std::min(s.depth, std::max(0.1, maxDepth));
+    for (int i = 0; i < 3; ++i) {
+      const double a = a0 + 2.0 * kPi * i / 3.0;
+      const Vec2 out(std::cos(a), std::sin(a));
+      GraspFinger f;
+      f.radius = fingerRadius;
+      f.inward = -out;
+      f.pos = out * (ReachAlong(slice, out) + fingerRadius - s.depth);
+      s.fingers.push_back(f);
+    }
+  } else {
+    const double half = ReachAlong(slice, axis);
+    // the two sides' contours keep kClearance apart
+    s.depth = std::min(s.depth, std::max(0.1, half - 0.5 * kClearance));
+    // a thumb on the far side; one, two or three fingers side by side on the near one (a hand)
+    int nearCount = 1;
+    const double u = rng.Uniform();
+    if (parallelFaces) nearCount = u < 0.6 ? 1 : u < 0.85 ? 2 : 3;
+    const double pitch = 2.0 * fingerRadius + kClearance;
+    const double faceHalf = FaceHalfLength(slice, -axis);
+    while (nearCount > 1 && nearCount * pitch > 2.0 * faceHalf) --nearCount;
+    const Vec2 side(-axis.y(), axis.x());
+    GraspFinger thumb;
+    thumb.radius = fingerRadius;
+    thumb.inward = axis;
+    thumb.pos = -axis * (half + fingerRadius - s.depth);
+    s.fingers.push_back(thumb);
+    for (int i = 0; i < nearCount; ++i) {
+      GraspFinger f;
+      f.radius = fingerRadius;
+      f.inward = -axis;
+      f.pos = axis * (half + fingerRadius - s.depth) + side * ((i - 0.5 * (nearCount - 1)) * pitch);
+      s.fingers.push_back(f);
+    }
+  }
+
+  // the motion
+  const double m = rng.Uniform();
+  s.motion = m < 0.45 ? GraspMotion::kCarry : m < 0.8 ? GraspMotion::kTurn : GraspMotion::kPush;
+  if (s.motion == GraspMotion::kPush) {
+    // only across a grip of one finger on each side, from the middle of a face across the axis
+    bool fits = s.grip == GraspGrip::kOpposed && s.fingers.size() == 2;
+    if (fits) {
+      const Vec2 across(-axis.y(), axis.x());
+      const double reach = ReachAlong(slice, -across);
+      GraspFinger& p = s.pusher;
+      p.radius = rng.Uniform(0.6, 1.0);
+      p.inward = across;
+      s.pushDepth = rng.Uniform(1.5, 2.5);
+      // its contour stays kClearance from the gripping ones, and within its face
+      const double faceHalf = FaceHalfLength(slice, -across);
+      fits = p.radius + physics.particleRadius < faceHalf;
+      for (; fits && s.pushDepth >= 1.5; s.pushDepth -= 0.05) {
+        p.pos = -across * (reach + p.radius - s.pushDepth);
+        bool clear = true;
+        for (const GraspFinger& f : s.fingers) {
+          clear = clear && (p.pos - f.pos).norm() >= p.radius + f.radius + kClearance;
+        }
+        if (clear) break;
+      }
+      fits = fits && s.pushDepth >= 1.5;
+    }
+    if (!fits) s.motion = GraspMotion::kCarry;
+  }
+  s.moveStart = kMoveStart;
+  if (s.motion == GraspMotion::kCarry) {
+    const double a = rng.Uniform(0.0, 2.0 * kPi);
+    s.direction = Vec2(std::cos(a), std::sin(a));
+    s.distance = rng.Uniform(8.0, 14.0);
+    s.speed = rng.Uniform(5.0, 30.0);
+    s.moveEnd = s.moveStart + 2.0 * s.distance / s.speed;  // bang-bang: peak speed 2 D / T
+    o.pose.pos = kTableCentre - s.direction * (0.5 * s.distance);
+  } else if (s.motion == GraspMotion::kTurn) {
+    s.turn = DegToRad(rng.Uniform(60.0, 180.0)) * (rng.Uniform() < 0.5 ? -1.0 : 1.0);
+    s.turnRate = DegToRad(rng.Uniform(30.0, 120.0));
+    s.moveEnd = s.moveStart + 2.0 * std::abs(s.turn) / s.turnRate;
+    o.pose.pos = kTableCentre;
+  } else {
+    s.moveEnd = s.moveStart + 1.5 * (s.pushDepth + kClearance) / kPushSpeed;
+    o.pose.pos = kTableCentre;
+  }
+  s.duration = s.moveEnd + kSettleTime;
+  return s;
+}
+
+GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, double spacing) {
+  GraspPrediction p;
+  const ObjectSpec& o = s.object;
+  const MassProps mass = ComputeMassProps(o);
+  const double g = physics.gravity;
+  const double weight = mass.mass * g;
+  const double muP = o.particleFriction >= 0 ? o.particleFriction : physics.particleFriction;
+  auto force = [&](const GraspFinger& f, const Vec2& shift) {
+    // the object moved by `shift`: in its frame the finger moved by -shift
+    return FingertipForce(o, physics, spacing, f.pos - shift, f.radius, f.inward);
+  };
+
+  // the grip at rest: opposed sides balance where the object settles between them
+  Vec2 shift = Vec2::Zero();
+  if (s.grip == GraspGrip::kOpposed && s.fingers.size() > 2) {
+    const Vec2 axis = s.fingers.front().inward;
+    auto imbalance = [&](double d) {
+      Vec2 sum = Vec2::Zero();
+      for (const GraspFinger& f : s.fingers) sum += force(f, axis * d);
+      return sum.dot(axis);  // falls as the object moves along the thumb's push
+    };
+    double lo = -(s.depth + 2.0), hi = s.depth + 2.0;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (imbalance(mid) > 0.0 ? lo : hi) = mid;
+    }
+    shift = axis * (0.5 * (lo + hi));
+  }
+  std::vector<double> normal;
+  for (const GraspFinger& f : s.fingers) {
+    normal.push_back(force(f, shift).norm());
+    p.normalForce += normal.back();
+  }
+
+  // the most a side can push while the object lags behind it by up to d_max more: an elastic lag
+  // that the springs take back when the grip stops
+  auto pushCapacity = [&](const Vec2& u) {
+    Vec2 sum = Vec2::Zero();
+    for (const GraspFinger& f : s.fingers) {
+      if (f.inward.dot(u) > 1e-9) sum += force(f, shift - u * physics.gripMaxDepth);
+    }
+    return sum.dot(u);
+  };
+
+  if (s.motion == GraspMotion::kCarry) {
+    const double a = s.speed * s.speed / s.distance;  // bang-bang: v^2 / D
+    // to break loose from the table, then to accelerate while sliding
+    p.requirement = std::max(o.tableStatic * weight, o.tableKinetic * weight + mass.mass * a);
+    const Vec2 u = Rotate(s.direction, -o.pose.angle);  // object frame
+    if (s.grip == GraspGrip::kOpposed) {
+      const Vec2 axis = s.fingers.front().inward;
+      const double along = p.requirement * std::abs(u.dot(axis));
+      const double across = p.requirement * std::abs(u.x() * axis.y() - u.y() * axis.x());
+      // along the axis the leading side pushes; across it friction holds, on the normal force
+      // of both sides, which the push shifts from one side to the other without reducing it
+      // until the trailing side lets go
+      const double friction = muP * std::max(p.normalForce, along);
+      const double push = pushCapacity(u.dot(axis) >= 0 ? axis : Vec2(-axis));
+      p.capacity = std::min(across > 0 ? friction : kInfinity, along > 0 ? push : kInfinity);
+      p.margin = std::min(across > 0 ? friction / across : kInfinity,
+                          along > 0 ? push / along : kInfinity);
+      p.capacity = p.margin * p.requirement;
+    } else {
+      // caged: the two fingertips whose directions bracket u push it, beyond their preload
+      double worst = kInfinity;
+      for (size_t i = 0; i < s.fingers.size(); ++i) {
+        for (size_t j = i + 1; j < s.fingers.size(); ++j) {
+          const Vec2 ni = s.fingers[i].inward, nj = s.fingers[j].inward;
+          const double det = ni.x() * nj.y() - ni.y() * nj.x();
+          if (std::abs(det) < 1e-9) continue;
+          const double ai = (u.x() * nj.y() - u.y() * nj.x()) / det;
+          const double aj = (ni.x() * u.y() - ni.y() * u.x()) / det;
+          if (ai < -1e-9 || aj < -1e-9) continue;
+          auto extra = [&](const GraspFinger& f) {
+            return force(f, shift - f.inward * physics.gripMaxDepth).norm() - normal[0];
+          };
+          const double mi = ai > 1e-9 ? extra(s.fingers[i]) / (ai * p.requirement) : kInfinity;
+          const double mj = aj > 1e-9 ? extra(s.fingers[j]) / (aj * p.requirement) : kInfinity;
+          worst = std::min(worst, std::min(mi, mj));
+        }
+      }
+      p.margin = worst;
+      p.capacity = p.margin * p.requirement;
+    }
+  } else if (s.motion == GraspMotion::kTurn) {
+    const double alpha = s.turnRate * s.turnRate / std::abs(s.turn);  // bang-bang: w^2 / theta
+    const double rEff = EffectiveFrictionRadius(o, mass.centroid);
+    p.requirement = std::max(o.tableStatic * weight * rEff,
+                             o.tableKinetic * weight * rEff + mass.inertia * alpha);
+    // each fingertip's friction acts along its face, at the face's distance from the centre
+    const CrossSection slice = Slice0(o, physics);
+    for (size_t i = 0; i < s.fingers.size(); ++i) {
+      p.capacity += muP * normal[i] * ReachAlong(slice, -s.fingers[i].inward);
+    }
+    p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
+  } else {
+    // the pusher at its depth against the grip's friction and the table's static friction
+    p.requirement =
+        FingertipForce(o, physics, spacing, s.pusher.pos - shift, s.pusher.radius, s.pusher.inward)
+            .norm();
+    p.capacity = muP * p.normalForce + o.tableStatic * weight;
+    p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
+  }
+  p.canHold = p.margin >= 1.0;
+  p.nearBoundary = p.margin >= 1.0 - kBoundaryBand && p.margin <= 1.0 + kBoundaryBand;
+  return p;
+}
+
+std::string GraspSceneToml(const GraspScene& s, const GraspPrediction& prediction) {
+  const ObjectSpec& o = s.object;
+  std::ostringstream t;
+  t << std::setprecision(10);
+  t << "name = \"grasp sweep " << s.seed << "/" << s.index << "\"\n"
+    << "description = \"\"\"\nGenerated by the grasp sweep (seed " << s.seed << ", scene "
+    << s.index << "): a " << kGraspShapeNames[static_cast<int>(s.shape)] << " gripped by "
+    << s.fingers.size() << " fingertips ("
+    << (s.grip == GraspGrip::kCaged ? "at 120 degrees" : "on opposite faces") << "), contours "
+    << s.depth << " cm inside, then a " << kGraspMotionNames[static_cast<int>(s.motion)]
+    << ".\"\"\"\n\n";
+  t << "# The hold rule (docs/physics.md, \"Grasp sweep\"): grip normal force "
+    << prediction.normalForce << " dyn, capacity " << prediction.capacity << ", requirement "
+    << prediction.requirement << (s.motion == GraspMotion::kTurn ? " dyn cm" : " dyn")
+    << ", margin " << prediction.margin << ": "
+    << (prediction.nearBoundary ? "near the boundary (not scored)"
+        : prediction.canHold    ? "can hold"
+                                : "cannot hold")
+    << "\n\n";
+  t << "[physics]\nframe_rate = 60\n\n";
+  t << "[[objects]]\nname = \"object\"\nshape = \"" << kObjectShapeNames[static_cast<int>(o.shape)]
+    << "\"\n";
+  switch (o.shape) {
+    case ObjectShape::kBox:
+      t << "size_x = " << o.sizeX << "\nsize_y = " << o.sizeY << "\nheight = " << o.height << "\n";
+      break;
+    case ObjectShape::kCylinder:
+      t << "radius = " << o.radius << "\nheight = " << o.height << "\n";
+      break;
+    case ObjectShape::kSphere:
+      t << "radius = " << o.radius << "\n";
+      break;
+    default:
+      t << "height = " << o.height << "\npoints = [";
+      for (size_t i = 0; i < o.points.size(); ++i) {
+        t << (i ? ", " : "") << "[" << o.points[i].x() << ", " << o.points[i].y() << "]";
+      }
+      t << "]\n";
+      break;
+  }
+  t << "mass = " << o.mass << "\ntable_static = " << o.tableStatic
+    << "\ntable_kinetic = " << o.tableKinetic << "\nparticle_friction = " << o.particleFriction
+    << "\npos = [" << o.pose.pos.x() << ", " << o.pose.pos.y()
+    << "]\nangle = " << RadToDeg(o.pose.angle) << "\n\n";
+  t << "[script]\ninterpolation = \"linear\"\nduration = " << s.duration << "\n";
+  const std::vector<FingerPath> paths = Paths(s);
+  for (size_t i = 0; i < paths.size(); ++i) {
+    t << "\n[[script.contacts]]\nname = \"finger" << i
+      << "\"\nshape = \"circle\"\nradius = " << paths[i].radius << "\nkeys = [\n";
+    for (const auto& [time, pos] : paths[i].keys) {
+      t << "  {t = " << time << ", pos = [" << pos.x() << ", " << pos.y() << "]},\n";
+    }
+    t << "]\n";
+  }
+  if (prediction.canHold && !prediction.nearBoundary) {
+    const Pose2 m = GripMotionAt(s, s.duration);
+    const Vec2 end = ApplyMotion(m, o.pose.pos);
+    t << "\n# it can hold: the object follows the grip's rigid motion within 1 cm and 5 degrees\n"
+      << "[[expect]]\nkind = \"position\"\nobject = \"object\"\ncenter = [" << end.x() << ", "
+      << end.y() << "]\nradius = " << kFollowDistance << "\nlabel = \"follows the grip\"\n\n"
+      << "[[expect]]\nkind = \"rotation\"\nobject = \"object\"\nabove = "
+      << RadToDeg(m.angle - kFollowAngle) << "\nbelow = " << RadToDeg(m.angle + kFollowAngle)
+      << "\n"
+      << "label = \"turns with the grip\"\n";
+  }
+  return t.str();
+}
+
+Result<GraspOutcome> RunGraspScene(const GraspScene& s, int substeps) {
+  const GraspPrediction none;
+  Result<Level> level =
+      ParseLevel(GraspSceneToml(s, none), "grasp-sweep/scene_" + std::to_string(s.index) + ".toml");
+  if (!level.ok()) return level.error();
+  LevelParams params = level.value().params;
+  params.physics.substeps = substeps;
+  Simulation sim;
+  if (MaybeError e = sim.Start(level.value(), params)) return *e;
+
+  GraspOutcome out;
+  const double dt = sim.FrameDuration();
+  const int64_t frames = static_cast<int64_t>(std::ceil(s.duration / dt - 1e-9));
+  Pose2 atStart = s.object.pose;
+  bool started = false;
+  for (int64_t f = 0; f < frames; ++f) {
+    if (!started && sim.Time() >= s.moveStart - 1e-9) {
+      atStart = sim.world().Object(0).pose;
+      started = true;
+    }
+    if (MaybeError e = sim.StepScript()) return *e;
+    const ObjectState st = sim.world().Object(0);
+    out.peakSpeed = std::max(out.peakSpeed, st.velocity.norm());
+  }
+  const ObjectState end = sim.world().Object(0);
+  const Pose2 m = GripMotionAt(s, s.duration);
+  out.endError = (end.pose.pos - ApplyMotion(m, atStart.pos)).norm();
+  out.endAngleError = std::abs(WrapAngle(end.pose.angle - (atStart.angle + m.angle)));
+  for (const FingerPath& path : Paths(s)) {
+    for (size_t i = 1; i < path.keys.size(); ++i) {
+      const double span = path.keys[i].first - path.keys[i - 1].first;
+      if (span > 1e-9) {
+        out.contactSpeed = std::max(out.contactSpeed,
+                                    (path.keys[i].second - path.keys[i - 1].second).norm() / span);
+      }
+    }
+  }
+  out.followed = out.endError <= kFollowDistance && out.endAngleError <= kFollowAngle;
+  out.ejected = out.peakSpeed > kSpeedFactor * out.contactSpeed + kSpeedAllowance;
+  return out;
+}
+
+Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
+  if (options.scenes < 1) {
+    return MakeError({},
+                     "--scenes must be at least 1 (got " + std::to_string(options.scenes) + ")");
+  }
+  if (options.substeps.empty() && !options.ruleOnly)
+    return MakeError({}, "--substeps names no substep count");
+  for (int n : options.substeps) {
+    if (n < 1 || n > 64) {
+      return MakeError({}, "--substeps must be in [1, 64] (got " + std::to_string(n) + ")");
+    }
+  }
+  if (options.threads < 1) {
+    return MakeError({},
+                     "--threads must be at least 1 (got " + std::to_string(options.threads) + ")");
+  }
+  GraspSweepReport report;
+  report.options = options;
+  const LevelParams defaults;
+  for (int i = 0; i < options.scenes; ++i) {
+    GraspSceneResult r;
+    r.scene = GenerateGraspScene(options.seed, i);
+    r.prediction = PredictGrasp(r.scene, defaults.physics, defaults.sensing.spacing);
+    r.outcomes.resize(options.ruleOnly ? 0 : options.substeps.size());
+    report.scenes.push_back(std::move(r));
+  }
+  if (options.ruleOnly) return report;
+
+  // every (scene, substep count) is independent
+  const size_t jobs = report.scenes.size() * options.substeps.size();
+  std::atomic<size_t> next{0};
+  std::mutex errorMutex;
+  std::optional<Error> firstError;
+  auto work = [&] {
+    for (size_t j = next++; j < jobs; j = next++) {
+      GraspSceneResult& r = report.scenes[j / options.substeps.size()];
+      const size_t k = j % options.substeps.size();
+      Result<GraspOutcome> o = RunGraspScene(r.scene, options.substeps[k]);
+      if (o.ok()) {
+        r.outcomes[k] = o.value();
+      } else {
+        std::lock_guard<std::mutex> lock(errorMutex);
+        if (!firstError) firstError = o.error();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < options.threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (firstError) return *firstError;
+
+  for (size_t k = 0; k < options.substeps.size(); ++k) {
+    GraspRates rates;
+    rates.substeps = options.substeps[k];
+    for (const GraspSceneResult& r : report.scenes) {
+      const GraspOutcome& o = r.outcomes[k];
+      rates.ejections += o.ejected ? 1 : 0;
+      rates.worstSpeedRatio = std::max(
+          rates.worstSpeedRatio, o.peakSpeed / (kSpeedFactor * o.contactSpeed + kSpeedAllowance));
+      if (r.prediction.nearBoundary) {
+        ++rates.boundaryScenes;
+      } else if (r.prediction.canHold) {
+        ++rates.holdScenes;
+        rates.holdFollowed += o.followed ? 1 : 0;
+        rates.worstHoldError = std::max(rates.worstHoldError, o.endError);
+      } else {
+        ++rates.slipScenes;
+        rates.slipSlipped += o.followed ? 0 : 1;
+      }
+    }
+    report.rates.push_back(rates);
+  }
+
+  if (!options.failuresDir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(options.failuresDir, ec);
+    if (ec)
+      return MakeError({}, options.failuresDir + ": cannot create the folder: " + ec.message());
+    for (const GraspSceneResult& r : report.scenes) {
+      bool failed = false;
+      for (const GraspOutcome& o : r.outcomes) {
+        const bool wrong = !r.prediction.nearBoundary && o.followed != r.prediction.canHold;
+        failed = failed || wrong || o.ejected;
+      }
+      if (!failed) continue;
+      std::ostringstream name;
+      name << options.failuresDir << "/grasp_" << options.seed << "_" << std::setw(3)
+           << std::setfill('0') << r.scene.index << ".toml";
+      std::ofstream file(name.str());
+      file << "# Failed in the grasp sweep:";
+      for (size_t k = 0; k < options.substeps.size(); ++k) {
+        const GraspOutcome& o = r.outcomes[k];
+        file << (k ? ";" : "") << " " << options.substeps[k] << " substeps: end "
+             << std::setprecision(3) << o.endError << " cm, " << RadToDeg(o.endAngleError)
+             << " deg, peak " << o.peakSpeed << " cm/s (contacts " << o.contactSpeed << ")";
+      }
+      file << "\n" << GraspSceneToml(r.scene, r.prediction);
+      if (!file) return MakeError({}, name.str() + ": cannot write the scene");
+    }
+  }
+  return report;
+}
+
+namespace {
+
+std::string SceneLabel(const GraspScene& s) {
+  std::ostringstream t;
+  t << kGraspShapeNames[static_cast<int>(s.shape)] << " " << std::fixed << std::setprecision(0)
+    << s.object.mass << " g, " << s.fingers.size()
+    << (s.grip == GraspGrip::kCaged ? " caged" : " opposed") << ", depth " << std::setprecision(2)
+    << s.depth << ", " << kGraspMotionNames[static_cast<int>(s.motion)];
+  if (s.motion == GraspMotion::kCarry) {
+    t << " " << std::setprecision(1) << s.distance << " cm at " << s.speed << " cm/s";
+  } else if (s.motion == GraspMotion::kTurn) {
+    t << " " << std::setprecision(0) << RadToDeg(s.turn) << " deg at " << RadToDeg(s.turnRate)
+      << " deg/s";
+  } else {
+    t << " " << std::setprecision(2) << s.pushDepth << " cm deep";
+  }
+  return t.str();
+}
+
+}  // namespace
+
+std::string FormatGraspSweep(const GraspSweepReport& report) {
+  std::ostringstream t;
+  int hold = 0, slip = 0, boundary = 0;
+  for (const GraspSceneResult& r : report.scenes) {
+    (r.prediction.nearBoundary ? boundary : r.prediction.canHold ? hold : slip) += 1;
+  }
+  t << "grasp sweep: seed " << report.options.seed << ", " << report.scenes.size()
+    << " scenes: the rule says " << hold << " can hold, " << slip << " cannot, " << boundary
+    << " near the boundary (not scored)\n";
+  for (int m = 0; m < 3; ++m) {
+    int counts[3] = {0, 0, 0};
+    for (const GraspSceneResult& r : report.scenes) {
+      if (static_cast<int>(r.scene.motion) != m) continue;
+      ++counts[r.prediction.nearBoundary ? 2 : r.prediction.canHold ? 0 : 1];
+    }
+    t << "  " << std::setw(5) << kGraspMotionNames[m] << ": " << counts[0] << " can hold, "
+      << counts[1] << " cannot, " << counts[2] << " near the boundary\n";
+  }
+  t << "\n";
+  t << "substeps  held&followed   slipping&slipped  ejections  worst hold error  worst speed\n";
+  for (const GraspRates& r : report.rates) {
+    t << std::setw(8) << r.substeps << "  " << std::setw(4) << r.holdFollowed << "/" << std::setw(4)
+      << std::left << r.holdScenes << std::right << std::fixed << std::setprecision(1)
+      << std::setw(6) << 100.0 * r.HoldRate() << "%  " << std::setw(4) << r.slipSlipped << "/"
+      << std::setw(4) << std::left << r.slipScenes << std::right << std::setw(6)
+      << 100.0 * r.SlipRate() << "%  " << std::setw(9) << r.ejections << "  " << std::setw(13)
+      << std::setprecision(2) << r.worstHoldError << " cm  " << std::setw(10) << r.worstSpeedRatio
+      << "\n";
+  }
+  t << "\n(worst speed: peak object speed / (1.5 x fastest contact + 5 cm/s); above 1 is an "
+       "ejection)\n\nscenes the rule got wrong, or ejections:\n";
+  int listed = 0;
+  for (const GraspSceneResult& r : report.scenes) {
+    bool wrong = false;
+    for (const GraspOutcome& o : r.outcomes) {
+      wrong =
+          wrong || o.ejected || (!r.prediction.nearBoundary && o.followed != r.prediction.canHold);
+    }
+    if (!wrong) continue;
+    ++listed;
+    t << "  #" << std::setw(3) << r.scene.index << "  " << SceneLabel(r.scene) << "; margin "
+      << std::setprecision(2) << r.prediction.margin << " ("
+      << (r.prediction.canHold ? "hold" : "slip") << ")\n";
+    for (size_t k = 0; k < r.outcomes.size(); ++k) {
+      const GraspOutcome& o = r.outcomes[k];
+      t << "        " << report.options.substeps[k] << " substeps: end " << o.endError << " cm, "
+        << std::setprecision(1) << RadToDeg(o.endAngleError) << " deg, peak " << o.peakSpeed
+        << " cm/s (contacts " << o.contactSpeed << ")" << (o.ejected ? " EJECTED" : "") << "\n"
+        << std::setprecision(2);
+    }
+  }
+  if (listed == 0) t << "  none\n";
+  return t.str();
+}
+
+std::string GraspSweepJson(const GraspSweepReport& report) {
+  std::ostringstream t;
+  t << std::setprecision(6);
+  t << "{\n  \"seed\": " << report.options.seed << ",\n  \"scenes\": " << report.scenes.size()
+    << ",\n  \"rates\": [";
+  for (size_t k = 0; k < report.rates.size(); ++k) {
+    const GraspRates& r = report.rates[k];
+    t << (k ? "," : "") << "\n    {\"substeps\": " << r.substeps
+      << ", \"hold_scenes\": " << r.holdScenes << ", \"hold_followed\": " << r.holdFollowed
+      << ", \"hold_rate\": " << r.HoldRate() << ", \"slip_scenes\": " << r.slipScenes
+      << ", \"slip_slipped\": " << r.slipSlipped << ", \"slip_rate\": " << r.SlipRate()
+      << ", \"boundary_scenes\": " << r.boundaryScenes << ", \"ejections\": " << r.ejections
+      << ", \"worst_hold_error_cm\": " << r.worstHoldError
+      << ", \"worst_speed_ratio\": " << r.worstSpeedRatio << "}";
+  }
+  t << "\n  ],\n  \"results\": [";
+  for (size_t i = 0; i < report.scenes.size(); ++i) {
+    const GraspSceneResult& r = report.scenes[i];
+    t << (i ? "," : "") << "\n    {\"index\": " << r.scene.index << ", \"shape\": \""
+      << kGraspShapeNames[static_cast<int>(r.scene.shape)] << "\", \"motion\": \""
+      << kGraspMotionNames[static_cast<int>(r.scene.motion)]
+      << "\", \"margin\": " << (std::isfinite(r.prediction.margin) ? r.prediction.margin : 1e9)
+      << ", \"can_hold\": " << (r.prediction.canHold ? "true" : "false")
+      << ", \"near_boundary\": " << (r.prediction.nearBoundary ? "true" : "false")
+      << ", \"outcomes\": [";
+    for (size_t k = 0; k < r.outcomes.size(); ++k) {
+      const GraspOutcome& o = r.outcomes[k];
+      t << (k ? ", " : "") << "{\"substeps\": " << report.options.substeps[k]
+        << ", \"end_error_cm\": " << o.endError
+        << ", \"end_angle_error_deg\": " << RadToDeg(o.endAngleError)
+        << ", \"peak_speed\": " << o.peakSpeed << ", \"contact_speed\": " << o.contactSpeed
+        << ", \"followed\": " << (o.followed ? "true" : "false") << "}";
+    }
+    t << "]}";
+  }
+  t << "\n  ]\n}\n";
+  return t.str();
+}
+
+}  // namespace pg
