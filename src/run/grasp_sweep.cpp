@@ -86,46 +86,6 @@ Vec2 ApplyMotion(const Pose2& m, const Vec2& p) {
   return m.pos + Rotate(p, m.angle);
 }
 
-std::vector<FingerPath> Paths(const GraspScene& s) {
-  std::vector<FingerPath> paths;
-  const Pose2& pose = s.object.pose;
-  for (const GraspFinger& f : s.fingers) {
-    FingerPath path;
-    path.radius = f.radius;
-    const Vec2 grip = pose.Apply(f.pos);
-    const Vec2 in = Rotate(f.inward, pose.angle);
-    const Vec2 from = grip - in * (s.depth + kClearance);
-    for (double t = 0.0; t < kApproachTime - 1e-9; t += kKeyInterval) {
-      path.keys.emplace_back(t, from + (grip - from) * SmoothStep01(t / kApproachTime));
-    }
-    path.keys.emplace_back(kApproachTime, grip);
-    if (s.motion != GraspMotion::kPush) {
-      for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) {
-        path.keys.emplace_back(t, ApplyMotion(GripMotionAt(s, t), grip));
-      }
-      path.keys.emplace_back(s.moveEnd, ApplyMotion(GripMotionAt(s, s.moveEnd), grip));
-    }
-    path.keys.emplace_back(s.duration, ApplyMotion(GripMotionAt(s, s.duration), grip));
-    paths.push_back(std::move(path));
-  }
-  if (s.motion == GraspMotion::kPush) {
-    FingerPath path;
-    path.radius = s.pusher.radius;
-    path.start = s.moveStart;
-    const Vec2 at = pose.Apply(s.pusher.pos);
-    const Vec2 in = Rotate(s.pusher.inward, pose.angle);
-    const Vec2 from = at - in * (s.pushDepth + kClearance);
-    for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) {
-      path.keys.emplace_back(
-          t, from + (at - from) * SmoothStep01((t - s.moveStart) / (s.moveEnd - s.moveStart)));
-    }
-    path.keys.emplace_back(s.moveEnd, at);
-    path.keys.emplace_back(s.duration, at);
-    paths.push_back(std::move(path));
-  }
-  return paths;
-}
-
 // a regular polygon of n sides with circumradius R, one face normal along +x
 std::vector<Vec2> RegularPolygon(int n, double circumradius) {
   std::vector<Vec2> pts;
@@ -168,6 +128,53 @@ double FaceHalfLength(const CrossSection& slice, const Vec2& u) {
     }
   }
   return half;
+}
+
+std::vector<FingerPath> Paths(const GraspScene& s) {
+  std::vector<FingerPath> paths;
+  const Pose2& pose = s.object.pose;
+  // how far the footprint (a sphere's equator) reaches beyond the layer-0 slice the fingers grip
+  const PhysicsParams physics;
+  const CrossSection slice = Slice0(s.object, physics), footprint = Footprint(s.object);
+  auto overhang = [&](const Vec2& inward) {
+    return ReachAlong(footprint, -inward) - ReachAlong(slice, -inward);
+  };
+  for (const GraspFinger& f : s.fingers) {
+    FingerPath path;
+    path.radius = f.radius;
+    const Vec2 grip = pose.Apply(f.pos);
+    const Vec2 in = Rotate(f.inward, pose.angle);
+    // from outside the footprint: a contact that appears over the object is placed on its top
+    const Vec2 from = grip - in * (s.depth + kClearance + overhang(f.inward));
+    for (double t = 0.0; t < kApproachTime - 1e-9; t += kKeyInterval) {
+      path.keys.emplace_back(t, from + (grip - from) * SmoothStep01(t / kApproachTime));
+    }
+    path.keys.emplace_back(kApproachTime, grip);
+    if (s.motion != GraspMotion::kPush) {
+      for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) {
+        path.keys.emplace_back(t, ApplyMotion(GripMotionAt(s, t), grip));
+      }
+      path.keys.emplace_back(s.moveEnd, ApplyMotion(GripMotionAt(s, s.moveEnd), grip));
+    }
+    path.keys.emplace_back(s.duration, ApplyMotion(GripMotionAt(s, s.duration), grip));
+    paths.push_back(std::move(path));
+  }
+  if (s.motion == GraspMotion::kPush) {
+    FingerPath path;
+    path.radius = s.pusher.radius;
+    path.start = s.moveStart;
+    const Vec2 at = pose.Apply(s.pusher.pos);
+    const Vec2 in = Rotate(s.pusher.inward, pose.angle);
+    const Vec2 from = at - in * (s.pushDepth + kClearance + overhang(s.pusher.inward));
+    for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) {
+      path.keys.emplace_back(
+          t, from + (at - from) * SmoothStep01((t - s.moveStart) / (s.moveEnd - s.moveStart)));
+    }
+    path.keys.emplace_back(s.moveEnd, at);
+    path.keys.emplace_back(s.duration, at);
+    paths.push_back(std::move(path));
+  }
+  return paths;
 }
 
 }  // namespace
@@ -258,7 +265,8 @@ GraspScene GenerateGraspScene(uint64_t seed, int index) {
       break;
     case GraspShape::kSphere:
       o.shape = ObjectShape::kSphere;
-      o.radius = 0.5 * size;
+      // 2 to 7 cm across: the 8 layers of 1 cm take objects up to 7.5 cm tall
+      o.radius = 0.5 * (2.0 + 0.5 * (size - 2.0));
       break;
     case GraspShape::kTriangle:
     case GraspShape::kHexagon:
@@ -414,14 +422,20 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
     p.normalForce += normal.back();
   }
 
-  // the most a side can push while the object lags behind it by up to d_max more: an elastic lag
-  // that the springs take back when the grip stops
+  // what the normal forces of every fingertip, together, can push along u while the object lags
+  // behind the grip by up to d_max (a lag the springs take back when the grip stops): the leading
+  // fingertips press deeper and the trailing ones let go. Fingertips larger than a round slice
+  // press less when pushed past its centre, so every lag up to d_max is tried.
   auto pushCapacity = [&](const Vec2& u) {
-    Vec2 sum = Vec2::Zero();
-    for (const GraspFinger& f : s.fingers) {
-      if (f.inward.dot(u) > 1e-9) sum += force(f, shift - u * physics.gripMaxDepth);
+    double best = 0.0;
+    constexpr int kLags = 16;
+    for (int j = 1; j <= kLags; ++j) {
+      const Vec2 lagged = shift - u * (physics.gripMaxDepth * j / kLags);
+      Vec2 sum = Vec2::Zero();
+      for (const GraspFinger& f : s.fingers) sum += force(f, lagged);
+      best = std::max(best, sum.dot(u));
     }
-    return sum.dot(u);
+    return best;
   };
 
   if (s.motion == GraspMotion::kCarry) {
@@ -443,25 +457,8 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
                           along > 0 ? push / along : kInfinity);
       p.capacity = p.margin * p.requirement;
     } else {
-      // caged: the two fingertips whose directions bracket u push it, beyond their preload
-      double worst = kInfinity;
-      for (size_t i = 0; i < s.fingers.size(); ++i) {
-        for (size_t j = i + 1; j < s.fingers.size(); ++j) {
-          const Vec2 ni = s.fingers[i].inward, nj = s.fingers[j].inward;
-          const double det = ni.x() * nj.y() - ni.y() * nj.x();
-          if (std::abs(det) < 1e-9) continue;
-          const double ai = (u.x() * nj.y() - u.y() * nj.x()) / det;
-          const double aj = (ni.x() * u.y() - ni.y() * u.x()) / det;
-          if (ai < -1e-9 || aj < -1e-9) continue;
-          auto extra = [&](const GraspFinger& f) {
-            return force(f, shift - f.inward * physics.gripMaxDepth).norm() - normal[0];
-          };
-          const double mi = ai > 1e-9 ? extra(s.fingers[i]) / (ai * p.requirement) : kInfinity;
-          const double mj = aj > 1e-9 ? extra(s.fingers[j]) / (aj * p.requirement) : kInfinity;
-          worst = std::min(worst, std::min(mi, mj));
-        }
-      }
-      p.margin = worst;
+      // caged: the fingertips push it in any direction
+      p.margin = pushCapacity(u) / p.requirement;
       p.capacity = p.margin * p.requirement;
     }
   } else if (s.motion == GraspMotion::kTurn) {
