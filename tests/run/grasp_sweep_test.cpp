@@ -1,0 +1,231 @@
+#include "proxygrasp/run/grasp_sweep.h"
+
+#include "proxygrasp/core/units.h"
+#include "proxygrasp/level/level.h"
+#include "proxygrasp/level/params.h"
+#include "proxygrasp/physics/shapes.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+namespace pg {
+namespace {
+
+using ::testing::HasSubstr;
+
+// A fingertip against a flat face, integrated along its outline (arc length, not samples): what
+// the phase-averaged sum over contour samples must approach.
+double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double radius,
+                        double depth) {
+  const double k = physics.gripStiffness, r = physics.particleRadius;
+  constexpr int kSteps = 200000;
+  double sum = 0.0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
+    // the contour point at theta from the inward direction lies this deep past the face
+    const double d = depth - radius * (1.0 - std::cos(theta));
+    if (d + r > 0.0) sum += k * std::min(d + r, physics.gripMaxDepth);
+  }
+  const double points = std::lround(2.0 * kPi * radius / spacing);
+  return sum / kSteps * points;
+}
+
+ObjectSpec Box(double sizeX, double sizeY, double mass) {
+  ObjectSpec o;
+  o.name = "object";
+  o.shape = ObjectShape::kBox;
+  o.sizeX = sizeX;
+  o.sizeY = sizeY;
+  o.height = 2.0;
+  o.mass = mass;
+  return o;
+}
+
+// two fingertips of radius R on the box's x faces, contours `depth` inside
+GraspScene OpposedBoxScene(double depth, double radius) {
+  GraspScene s;
+  s.object = Box(4.0, 4.0, 100.0);
+  s.object.tableStatic = 0.5;
+  s.object.tableKinetic = 0.4;
+  s.object.particleFriction = 0.8;
+  s.object.pose.pos = Vec2(30.5, 23.0);
+  s.depth = depth;
+  for (double sign : {-1.0, 1.0}) {
+    GraspFinger f;
+    f.radius = radius;
+    f.inward = Vec2(-sign, 0.0);
+    f.pos = Vec2(sign * (2.0 + radius - depth), 0.0);
+    s.fingers.push_back(f);
+  }
+  return s;
+}
+
+TEST(GraspRule, AFingertipOnAFlatFacePressesWithTheGripModelSummedOverItsContour) {
+  const PhysicsParams physics;
+  const double spacing = 0.3;
+  const ObjectSpec box = Box(6.0, 6.0, 100.0);
+  for (double depth : {0.1, 0.5, 1.2}) {
+    for (double radius : {0.6, 0.8, 1.0}) {
+      const Vec2 at(3.0 + radius - depth, 0.0);
+      const Vec2 f = FingertipForce(box, physics, spacing, at, radius, Vec2(-1.0, 0.0));
+      // the 16 phases average the samples' placement: within 1% of the integral along the outline
+      const double expected = FlatFaceIntegral(physics, spacing, radius, depth);
+      EXPECT_NEAR(-f.x(), expected, 0.01 * expected) << "depth " << depth << " R " << radius;
+      // it presses straight in: the sideways parts cancel (to rounding)
+      EXPECT_NEAR(f.y(), 0.0, 1e-6 * expected);
+    }
+  }
+}
+
+TEST(GraspRule, AFingertipPressesNothingClearOfTheFaceAndAtMostKDmaxPerPoint) {
+  const PhysicsParams physics;
+  const ObjectSpec box = Box(6.0, 6.0, 100.0);
+  // contour 0.3 cm clear, beyond the particle radius of 0.25
+  EXPECT_EQ(FingertipForce(box, physics, 0.3, Vec2(3.0 + 0.8 + 0.3, 0.0), 0.8, Vec2(-1, 0)).norm(),
+            0.0);
+  // pressed far in, every point presses at most k d_max
+  const double points = std::lround(2.0 * kPi * 0.8 / 0.3);
+  const Vec2 deep = FingertipForce(box, physics, 0.3, Vec2(1.0, 0.0), 0.8, Vec2(-1, 0));
+  EXPECT_LE(deep.norm(), points * physics.gripStiffness * physics.gripMaxDepth + 1e-6);
+}
+
+TEST(GraspRule, ACarryAcrossAnOpposedGripNeedsTableFrictionAndInertiaAgainstFriction) {
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.motion = GraspMotion::kCarry;
+  s.direction = Vec2(0.0, 1.0);  // across the x axis of the grip
+  s.distance = 10.0;
+  s.speed = 20.0;
+  const GraspPrediction p = PredictGrasp(s, physics, 0.3);
+  const double w = 100.0 * physics.gravity;
+  // bang-bang: a = v^2 / D = 40 cm/s^2; max(0.5 W, 0.4 W + M a) = max(49,050, 43,240) dyn
+  EXPECT_NEAR(p.requirement, std::max(0.5 * w, 0.4 * w + 100.0 * 40.0), 1e-6);
+  // across the axis only friction holds: mu_p times both fingertips' force
+  const double n = 2.0 * FlatFaceIntegral(physics, 0.3, 0.8, 0.4);
+  EXPECT_NEAR(p.normalForce, n, 0.01 * n);
+  EXPECT_NEAR(p.margin, 0.8 * p.normalForce / p.requirement, 1e-9);
+  EXPECT_EQ(p.canHold, p.margin >= 1.0);
+}
+
+TEST(GraspRule, ATurnNeedsTableFrictionOverTheBaseAndInertiaAgainstFingertipFrictionTorque) {
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.motion = GraspMotion::kTurn;
+  s.turn = DegToRad(90.0);
+  s.turnRate = DegToRad(60.0);
+  const GraspPrediction p = PredictGrasp(s, physics, 0.3);
+  const MassProps mass = ComputeMassProps(s.object);
+  const double rEff = EffectiveFrictionRadius(s.object, mass.centroid);
+  const double alpha = s.turnRate * s.turnRate / s.turn;
+  const double w = 100.0 * physics.gravity;
+  EXPECT_NEAR(p.requirement, std::max(0.5 * w * rEff, 0.4 * w * rEff + mass.inertia * alpha),
+              1e-6);
+  // friction along each face at the face's distance, 2 cm, from the centre
+  EXPECT_NEAR(p.capacity, 0.8 * p.normalForce * 2.0, 1e-6 * p.capacity);
+}
+
+TEST(GraspRule, AHandOfThreeFingersAgainstAThumbBalancesWithEqualSides) {
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.object = Box(4.0, 8.0, 100.0);
+  // two more fingertips beside the near one (the one pressing along -x)
+  for (double y : {-2.2, 2.2}) {
+    GraspFinger f = s.fingers[1];
+    f.pos.y() = y;
+    s.fingers.push_back(f);
+  }
+  s.motion = GraspMotion::kCarry;
+  s.direction = Vec2(0.0, 1.0);
+  s.distance = 10.0;
+  s.speed = 10.0;
+  const GraspPrediction p = PredictGrasp(s, physics, 0.3);
+  // the thumb ends up pressing as hard as the three together: half of the total each side, and
+  // more than one fingertip pressing 0.4 cm in alone
+  const double single = FlatFaceIntegral(physics, 0.3, 0.8, 0.4);
+  EXPECT_GT(0.5 * p.normalForce, single);
+  EXPECT_LT(0.5 * p.normalForce, 3.0 * single);
+}
+
+TEST(GraspSweep, ScenesAreReproducibleValidLevelsAndMostlyHoldable) {
+  const LevelParams defaults;
+  int hold = 0, total = 0;
+  for (int i = 0; i < 300; ++i) {
+    const GraspScene a = GenerateGraspScene(1, i);
+    const GraspScene b = GenerateGraspScene(1, i);
+    ASSERT_EQ(GraspSceneToml(a, {}), GraspSceneToml(b, {})) << "scene " << i;
+    const GraspPrediction p = PredictGrasp(a, defaults.physics, defaults.sensing.spacing);
+    ASSERT_TRUE(std::isfinite(p.requirement) && p.requirement > 0.0) << "scene " << i;
+    ASSERT_GE(p.margin, 0.0) << "scene " << i;
+    Result<Level> level = ParseLevel(GraspSceneToml(a, p), "scene.toml");
+    ASSERT_TRUE(level.ok()) << "scene " << i << ": " << level.error().Format();
+    ++total;
+    hold += p.canHold && !p.nearBoundary ? 1 : 0;
+  }
+  // issue 15: at least half of the generated scenes must be ones that can hold
+  EXPECT_GE(2 * hold, total);
+  EXPECT_NE(GraspSceneToml(GenerateGraspScene(1, 0), {}),
+            GraspSceneToml(GenerateGraspScene(2, 0), {}));
+}
+
+TEST(GraspSweep, AFirmGripCarriesAHeavyBoxAndASlipperyOneIsLeftBehind) {
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.5, 0.8);
+  s.motion = GraspMotion::kCarry;
+  s.direction = Vec2(0.0, 1.0);
+  s.distance = 8.0;
+  s.speed = 10.0;
+  s.object.pose.pos = Vec2(30.5, 19.0);
+  s.moveStart = 0.9;
+  s.moveEnd = s.moveStart + 2.0 * s.distance / s.speed;
+  s.duration = s.moveEnd + 0.7;
+  // mu_p 0.8: margin well above 1.2
+  const GraspPrediction firm = PredictGrasp(s, physics, 0.3);
+  ASSERT_GT(firm.margin, 1.2);
+  Result<GraspOutcome> held = RunGraspScene(s, 4);
+  ASSERT_TRUE(held.ok()) << held.error().Format();
+  EXPECT_TRUE(held.value().followed) << held.value().endError << " cm";
+  EXPECT_FALSE(held.value().ejected) << held.value().peakSpeed << " cm/s";
+  // soap (mu_p 0.05): capacity 0.05 N, below the table's static friction on 100 g: it stays
+  s.object.particleFriction = 0.05;
+  const GraspPrediction soap = PredictGrasp(s, physics, 0.3);
+  ASSERT_LT(soap.margin, 0.8);
+  Result<GraspOutcome> slipped = RunGraspScene(s, 4);
+  ASSERT_TRUE(slipped.ok()) << slipped.error().Format();
+  EXPECT_FALSE(slipped.value().followed);
+  // it stays behind: the end error is most of the 8 cm carry (within the grip's 0.5 cm drag)
+  EXPECT_GT(slipped.value().endError, 8.0 - 0.5);
+}
+
+TEST(GraspSweep, BadOptionsAreErrorsNamingThem) {
+  GraspSweepOptions o;
+  o.scenes = 0;
+  ASSERT_FALSE(RunGraspSweep(o).ok());
+  EXPECT_THAT(RunGraspSweep(o).error().message, HasSubstr("--scenes"));
+  o.scenes = 1;
+  o.substeps = {0};
+  EXPECT_THAT(RunGraspSweep(o).error().message, HasSubstr("--substeps"));
+  o.substeps = {4};
+  o.threads = 0;
+  EXPECT_THAT(RunGraspSweep(o).error().message, HasSubstr("--threads"));
+}
+
+TEST(GraspSweep, RuleOnlyClassifiesWithoutRunningAndTheReportSaysSo) {
+  GraspSweepOptions o;
+  o.scenes = 20;
+  o.ruleOnly = true;
+  Result<GraspSweepReport> r = RunGraspSweep(o);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.value().scenes.size(), 20u);
+  EXPECT_TRUE(r.value().rates.empty());
+  const std::string text = FormatGraspSweep(r.value());
+  EXPECT_THAT(text, HasSubstr("20 scenes: the rule says"));
+  EXPECT_THAT(GraspSweepJson(r.value()), HasSubstr("\"scenes\": 20"));
+}
+
+}  // namespace
+}  // namespace pg
