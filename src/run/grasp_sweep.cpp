@@ -597,8 +597,7 @@ Result<GraspOutcome> RunGraspScene(const GraspScene& s, int substeps) {
 
 Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
   if (options.scenes < 1) {
-    return MakeError({},
-                     "--scenes must be at least 1 (got " + std::to_string(options.scenes) + ")");
+    return MakeError({}, "--count must be at least 1 (got " + std::to_string(options.scenes) + ")");
   }
   if (options.substeps.empty() && !options.ruleOnly)
     return MakeError({}, "--substeps names no substep count");

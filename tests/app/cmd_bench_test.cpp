@@ -48,6 +48,44 @@ TEST(BenchCommand, BadValuesExitTwoWithAMessage) {
   EXPECT_THAT(r.output, HasSubstr("cannot write"));
 }
 
+TEST(BenchCommand, GraspSweepRunsItsScenesAndWritesTheFailingOnesAsLevels) {
+  const auto dir = std::filesystem::temp_directory_path() / "proxygrasp_cmd_bench_grasp";
+  std::filesystem::remove_all(dir);
+  const std::string json = (dir / "grasp.json").string();
+  std::filesystem::create_directories(dir);
+  const auto r = RunProxygrasp("bench grasp --count 2 --substeps 4 --threads 1 --json " + json +
+                               " --failures " + (dir / "failures").string());
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("grasp sweep: seed 1, 2 scenes"));
+  EXPECT_THAT(r.output, HasSubstr("held&followed"));
+  std::stringstream text;
+  text << std::ifstream(json).rdbuf();
+  EXPECT_THAT(text.str(), HasSubstr("\"rates\""));
+  EXPECT_THAT(text.str(), HasSubstr("\"substeps\": 4"));
+  // every scene written out is a level `proxygrasp run` accepts
+  if (std::filesystem::exists(dir / "failures")) {
+    for (const auto& entry : std::filesystem::directory_iterator(dir / "failures")) {
+      const auto run = RunProxygrasp("run " + entry.path().string());
+      EXPECT_NE(run.exitCode, 2) << run.output;
+    }
+  }
+}
+
+TEST(BenchCommand, GraspSweepBadValuesExitTwoWithAMessage) {
+  auto r = RunProxygrasp("bench grasp --count 0");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--count must be at least 1"));
+  r = RunProxygrasp("bench grasp --substeps 4,x");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--substeps 4,x"));
+  r = RunProxygrasp("bench nonsense");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("unknown suite 'nonsense'"));
+  r = RunProxygrasp("bench grasp --rule-only --count 5");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("5 scenes: the rule says"));
+}
+
 TEST(BenchCommand, ItsJsonBecomesThePerformanceDocsSection) {
   // scripts/bench-docs.py writes a run's figures between the markers of a copy of the doc, with
   // issue 17's targets beside them, and keeps the rest of the doc

@@ -205,7 +205,7 @@ TEST(GraspSweep, BadOptionsAreErrorsNamingThem) {
   GraspSweepOptions o;
   o.scenes = 0;
   ASSERT_FALSE(RunGraspSweep(o).ok());
-  EXPECT_THAT(RunGraspSweep(o).error().message, HasSubstr("--scenes"));
+  EXPECT_THAT(RunGraspSweep(o).error().message, HasSubstr("--count"));
   o.scenes = 1;
   o.substeps = {0};
   EXPECT_THAT(RunGraspSweep(o).error().message, HasSubstr("--substeps"));

@@ -142,7 +142,8 @@ struct GraspSweepReport {
   std::vector<GraspRates> rates;  ///< one per substep count
 };
 
-/// Generates, classifies and runs the scenes. Bad options are an Error naming them.
+/// Generates, classifies and runs the scenes. Bad options are an Error naming them as `proxygrasp
+/// bench grasp` does (--count, --substeps, --threads).
 Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options);
 
 /// The rates per substep count, then the failing and worst scenes.
