@@ -26,6 +26,7 @@ struct BenchArgs {
   std::string failures;
   int threads = 2;
   bool ruleOnly = false;
+  std::vector<std::string> sets;
 };
 
 int RunGraspCommand(const BenchArgs& args) {
@@ -35,6 +36,7 @@ int RunGraspCommand(const BenchArgs& args) {
   options.failuresDir = args.failures;
   options.threads = args.threads;
   options.ruleOnly = args.ruleOnly;
+  options.sets = args.sets;
   options.substeps.clear();
   std::istringstream counts(args.substeps);
   for (std::string n; std::getline(counts, n, ',');) {
@@ -139,6 +141,9 @@ void AddBenchCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--failures", args.failures,
                   "grasp: write each scene the rule got wrong to this folder as a level file");
   cmd->add_option("--threads", args.threads, "grasp: scenes run concurrently (default 2)");
+  cmd->add_option("--set", args.sets,
+                  "grasp: override a parameter for the rule and the runs: section.key=value "
+                  "(repeatable)");
   cmd->add_flag("--rule-only", args.ruleOnly,
                 "grasp: classify the scenes by the hold rule without running them");
   cmd->callback([&exitCode] { exitCode = RunBenchCommand(args); });

@@ -6,6 +6,7 @@
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/level/level.h"
 #include "proxygrasp/physics/shapes.h"
+#include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
 
 #include <algorithm>
@@ -553,12 +554,14 @@ std::string GraspSceneToml(const GraspScene& s, const GraspPrediction& predictio
   return t.str();
 }
 
-Result<GraspOutcome> RunGraspScene(const GraspScene& s, int substeps) {
+Result<GraspOutcome> RunGraspScene(const GraspScene& s, int substeps,
+                                   const std::vector<std::string>& sets) {
   const GraspPrediction none;
   Result<Level> level =
       ParseLevel(GraspSceneToml(s, none), "grasp-sweep/scene_" + std::to_string(s.index) + ".toml");
   if (!level.ok()) return level.error();
   LevelParams params = level.value().params;
+  if (MaybeError e = ApplyOverrides(params, sets)) return *e;
   params.physics.substeps = substeps;
   Simulation sim;
   if (MaybeError e = sim.Start(level.value(), params)) return *e;
@@ -612,7 +615,8 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
   }
   GraspSweepReport report;
   report.options = options;
-  const LevelParams defaults;
+  LevelParams defaults;
+  if (MaybeError e = ApplyOverrides(defaults, options.sets)) return *e;
   for (int i = 0; i < options.scenes; ++i) {
     GraspSceneResult r;
     r.scene = GenerateGraspScene(options.seed, i);
@@ -631,7 +635,7 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
     for (size_t j = next++; j < jobs; j = next++) {
       GraspSceneResult& r = report.scenes[j / options.substeps.size()];
       const size_t k = j % options.substeps.size();
-      Result<GraspOutcome> o = RunGraspScene(r.scene, options.substeps[k]);
+      Result<GraspOutcome> o = RunGraspScene(r.scene, options.substeps[k], options.sets);
       if (o.ok()) {
         r.outcomes[k] = o.value();
       } else {

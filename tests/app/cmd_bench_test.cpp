@@ -81,6 +81,9 @@ TEST(BenchCommand, GraspSweepBadValuesExitTwoWithAMessage) {
   r = RunProxygrasp("bench nonsense");
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("unknown suite 'nonsense'"));
+  r = RunProxygrasp("bench grasp --rule-only --set physics.bogus=1");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--set physics.bogus=1"));
   r = RunProxygrasp("bench grasp --rule-only --count 5");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("5 scenes: the rule says"));

@@ -101,8 +101,10 @@ GraspPrediction PredictGrasp(const GraspScene& scene, const PhysicsParams& physi
 /// comments and, when it can hold, the expectations that it follows the grip.
 std::string GraspSceneToml(const GraspScene& scene, const GraspPrediction& prediction);
 
-/// Runs a scene through the whole pipeline (synthetic camera to physics) at `substeps`.
-Result<GraspOutcome> RunGraspScene(const GraspScene& scene, int substeps);
+/// Runs a scene through the whole pipeline (synthetic camera to physics) at `substeps`, with the
+/// default parameters changed by `sets` ("section.key=value", as `--set` takes them).
+Result<GraspOutcome> RunGraspScene(const GraspScene& scene, int substeps,
+                                   const std::vector<std::string>& sets = {});
 
 /// What a sweep does.
 struct GraspSweepOptions {
@@ -112,6 +114,7 @@ struct GraspSweepOptions {
   std::string failuresDir;  ///< writes each failing scene here as a level file; "" writes none
   int threads = 1;          ///< scenes run concurrently
   bool ruleOnly = false;    ///< classify the scenes without running them
+  std::vector<std::string> sets;  ///< parameter overrides "section.key=value" for rule and runs
 };
 
 /// One scene's rule and its outcome at each substep count of the sweep.
