@@ -27,6 +27,7 @@ struct BenchArgs {
   int threads = 2;
   bool ruleOnly = false;
   std::vector<std::string> sets;
+  std::string clock = "cpu";
 };
 
 int RunGraspCommand(const BenchArgs& args) {
@@ -84,6 +85,12 @@ int RunBenchCommand(const BenchArgs& args) {
   BenchOptions options;
   options.frames = args.frames;
   options.repeat = args.repeat;
+  options.sets = args.sets;
+  if (args.clock != "cpu" && args.clock != "wall") {
+    std::cerr << "proxygrasp bench: --clock " << args.clock << ": must be cpu or wall\n";
+    return kExitBadInput;
+  }
+  options.clock = args.clock == "wall" ? TimerClock::kWall : TimerClock::kThreadCpu;
   std::istringstream names(args.scenes);
   for (std::string name; std::getline(names, name, ',');) {
     if (!name.empty()) options.scenes.push_back(name);
@@ -142,8 +149,11 @@ void AddBenchCommand(CLI::App& app, int& exitCode) {
                   "grasp: write each scene the rule got wrong to this folder as a level file");
   cmd->add_option("--threads", args.threads, "grasp: scenes run concurrently (default 2)");
   cmd->add_option("--set", args.sets,
-                  "grasp: override a parameter for the rule and the runs: section.key=value "
-                  "(repeatable)");
+                  "Override a parameter in every scene (grasp: for the rule and the runs): "
+                  "section.key=value (repeatable)");
+  cmd->add_option("--clock", args.clock,
+                  "cpu (default): the stepping thread's CPU time; wall: wall time, for "
+                  "physics.threads > 1");
   cmd->add_flag("--rule-only", args.ruleOnly,
                 "grasp: classify the scenes by the hold rule without running them");
   cmd->callback([&exitCode] { exitCode = RunBenchCommand(args); });

@@ -4,6 +4,7 @@
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/level/level.h"
 #include "proxygrasp/proxies/matching.h"
+#include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 
@@ -13,6 +14,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -196,12 +198,12 @@ struct SceneTimes {
 
 // runs the pipeline over the frames once, appending to `times`
 MaybeError TimePipeline(const Level& level, const std::vector<cv::Mat>& frames, bool keepContours,
-                        SceneTimes& times) {
+                        TimerClock clock, SceneTimes& times, uint64_t* stateHash) {
   SimulationOptions options;
-  options.stageClock = TimerClock::kThreadCpu;
+  options.stageClock = clock;
   Simulation sim;
   if (MaybeError e = sim.Start(level, level.params, options)) return e;
-  sim.world().SetBox2DClock(TimerClock::kThreadCpu);
+  sim.world().SetBox2DClock(clock);
   std::map<ContactId, Contour> previous;
   for (size_t i = 0; i < frames.size(); ++i) {
     if (MaybeError e = sim.StepImage(frames[i])) return e;
@@ -230,6 +232,25 @@ MaybeError TimePipeline(const Level& level, const std::vector<cv::Mat>& frames, 
     previous = std::move(current);
     if (!pairs.empty()) times.matchFrames.push_back(std::move(pairs));
   }
+  if (stateHash != nullptr) {
+    uint64_t h = 14695981039346656037ULL;  // FNV-1a
+    auto mix = [&h](double v) {
+      uint64_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      for (int b = 0; b < 8; ++b) {
+        h ^= (bits >> (8 * b)) & 0xffu;
+        h *= 1099511628211ULL;
+      }
+    };
+    for (size_t i = 0; i < level.objects.size(); ++i) {
+      const ObjectState o = sim.world().Object(static_cast<ObjectId>(i));
+      for (double v : {o.pose.pos.x(), o.pose.pos.y(), o.pose.angle, o.velocity.x(), o.velocity.y(),
+                       o.angularVelocity}) {
+        mix(v);
+      }
+    }
+    *stateHash = h;
+  }
   return std::nullopt;
 }
 
@@ -252,6 +273,7 @@ std::vector<double> TimeMatching(const SceneTimes& times, Match match) {
 MaybeError RunScene(const SceneDef& def, const BenchOptions& options, BenchReport& report) {
   Result<Level> level = SceneLevel(def);
   if (!level.ok()) return level.error();
+  if (MaybeError e = ApplyOverrides(level.value(), options.sets)) return e;
   const LevelParams& params = level.value().params;
 
   // render every frame beforehand, timing each
@@ -269,8 +291,12 @@ MaybeError RunScene(const SceneDef& def, const BenchOptions& options, BenchRepor
 
   // the pipeline, then the bare OpenCV chain on the same frames, per repeat
   SceneTimes times;
+  uint64_t stateHash = 0;
   for (int r = 0; r < options.repeat; ++r) {
-    if (MaybeError e = TimePipeline(level.value(), frames, r == 0, times)) return e;
+    if (MaybeError e = TimePipeline(level.value(), frames, r == 0, options.clock, times,
+                                    r == 0 ? &stateHash : nullptr)) {
+      return e;
+    }
     BareSensingChain bare(params.sensing, params.table, camera.Background());
     for (size_t i = kClearFrames; i < frames.size(); ++i) {
       const Stopwatch watch(TimerClock::kThreadCpu);
@@ -291,6 +317,7 @@ MaybeError RunScene(const SceneDef& def, const BenchOptions& options, BenchRepor
                   Figure("proxies", times.proxies), Figure("physics", times.physics),
                   Figure("total", times.total)};
   scene.total = scene.stages.back();
+  scene.stateHash = stateHash;
   report.scenes.push_back(scene);
 
   report.baselines.push_back(Baseline("sensing_vs_bare_opencv", def.name, times.sense, times.bare));
@@ -320,6 +347,12 @@ std::string Quote(const std::string& s) {
     }
   }
   return out + "\"";
+}
+
+std::string Hex(uint64_t v) {
+  char buffer[24];
+  std::snprintf(buffer, sizeof buffer, "0x%016llx", static_cast<unsigned long long>(v));
+  return buffer;
 }
 
 // a JSON number; a value that is not finite (never expected) is null
@@ -395,6 +428,8 @@ Result<BenchReport> RunBench(const BenchOptions& options) {
   report.machine = DescribeBenchMachine();
   report.frames = options.frames;
   report.repeat = options.repeat;
+  report.clock = options.clock;
+  report.sets = options.sets;
   MaybeError failed;
   for (const SceneDef* def : scenes) {
     failed = RunScene(*def, options, report);
@@ -414,7 +449,10 @@ std::string BenchJson(const BenchReport& report) {
       << ", \"opencv\": " << Quote(m.opencv) << ", \"load_start\": " << Number(m.loadStart)
       << ", \"load_end\": " << Number(m.loadEnd) << "},\n";
   out << "  \"frames\": " << report.frames << ",\n  \"repeat\": " << report.repeat << ",\n";
-  out << "  \"clock\": \"thread_cpu\",\n";
+  out << "  \"clock\": \"" << (report.clock == TimerClock::kWall ? "wall" : "thread_cpu")
+      << "\",\n  \"sets\": [";
+  for (size_t i = 0; i < report.sets.size(); ++i) out << (i ? ", " : "") << Quote(report.sets[i]);
+  out << "],\n";
 
   out << "  \"scenes\": [";
   for (size_t i = 0; i < report.scenes.size(); ++i) {
@@ -422,8 +460,8 @@ std::string BenchJson(const BenchReport& report) {
     out << (i ? ",\n" : "\n") << "    {\"name\": " << Quote(s.name)
         << ", \"description\": " << Quote(s.description) << ", \"frames\": " << s.frames
         << ", \"contacts\": " << Number(s.contacts) << ", \"particles\": " << Number(s.particles)
-        << ", \"bodies\": " << Number(s.bodies) << ", " << FigureJson(s.total)
-        << ",\n     \"stages\": {";
+        << ", \"bodies\": " << Number(s.bodies) << ", \"state_hash\": " << Quote(Hex(s.stateHash))
+        << ", " << FigureJson(s.total) << ",\n     \"stages\": {";
     for (size_t k = 0; k < s.stages.size(); ++k) {
       out << (k ? ", " : "") << Quote(s.stages[k].name) << ": {" << FigureJson(s.stages[k]) << "}";
     }
@@ -454,8 +492,11 @@ std::string FormatBench(const BenchReport& report) {
   std::snprintf(line, sizeof line, "load average: %.2f at the start, %.2f at the end\n",
                 m.loadStart, m.loadEnd);
   out << line;
-  out << report.frames << " frames x " << report.repeat
-      << " repeats per scene; CPU ms per frame of the stepping thread, median / p99\n\n";
+  out << report.frames << " frames x " << report.repeat << " repeats per scene; "
+      << (report.clock == TimerClock::kWall ? "wall" : "CPU")
+      << " ms per frame of the stepping thread, median / p99\n";
+  for (const std::string& set : report.sets) out << "--set " << set << "\n";
+  out << "\n";
 
   std::snprintf(line, sizeof line, "%-18s %8s %15s %15s %15s %15s %15s\n", "scene", "contacts",
                 "sense", "track", "proxies", "physics", "total");
@@ -469,6 +510,9 @@ std::string FormatBench(const BenchReport& report) {
     }
     out << "\n";
   }
+  out << "state after the last frame (equal across runs = bit-identical):";
+  for (const BenchScene& s : report.scenes) out << " " << s.name << " " << Hex(s.stateHash);
+  out << "\n";
 
   out << "\nrendering one camera frame (not in the stage times)\n";
   for (const BenchFigure& f : report.render) {

@@ -43,6 +43,10 @@ TEST(BenchCommand, BadValuesExitTwoWithAMessage) {
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("unknown scene 'nowhere'"));
 
+  r = RunProxygrasp("bench --frames 1 --clock sundial");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--clock sundial: must be cpu or wall"));
+
   r = RunProxygrasp("bench --frames 1 --json /nonexistent-dir/out.json");
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("cannot write"));

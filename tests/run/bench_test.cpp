@@ -194,6 +194,28 @@ TEST(Bench, RepeatsPoolTheirFrames) {
   EXPECT_EQ(r.value().repeat, 2);
 }
 
+TEST(Bench, PhysicsThreadsLeaveTheStateBitIdenticalAndTheHashSeesAChange) {
+  // issue 17: physics.threads = 2 against 1 on the four-hand scene gives the same state to the bit
+  BenchOptions options;
+  options.frames = 30;
+  options.scenes = {"five_hands4_s3"};
+  options.clock = TimerClock::kWall;
+  options.sets = {"physics.threads=1"};
+  const Result<BenchReport> one = RunBench(options);
+  ASSERT_TRUE(one.ok()) << one.error().Format();
+  options.sets = {"physics.threads=2"};
+  const Result<BenchReport> two = RunBench(options);
+  ASSERT_TRUE(two.ok()) << two.error().Format();
+  EXPECT_EQ(one.value().scenes.at(0).stateHash, two.value().scenes.at(0).stateHash);
+  EXPECT_THAT(BenchJson(two.value()), HasSubstr("\"sets\": [\"physics.threads=2\"]"));
+  EXPECT_THAT(BenchJson(two.value()), HasSubstr("\"clock\": \"wall\""));
+  // a change that moves the objects changes the hash: it is not blind
+  options.sets = {"physics.substeps=3"};
+  const Result<BenchReport> other = RunBench(options);
+  ASSERT_TRUE(other.ok()) << other.error().Format();
+  EXPECT_NE(one.value().scenes.at(0).stateHash, other.value().scenes.at(0).stateHash);
+}
+
 TEST(Bench, BadOptionsAreNamed) {
   BenchOptions options;
   options.frames = 0;
@@ -213,6 +235,12 @@ TEST(Bench, BadOptionsAreNamed) {
   ASSERT_FALSE(r.ok());
   EXPECT_THAT(r.error().Format(), HasSubstr("unknown scene 'hands9'"));
   EXPECT_THAT(r.error().Format(), HasSubstr("flat_hands8"));
+
+  options.scenes = {"flat_hands8"};
+  options.sets = {"physics.nothing=1"};
+  r = RunBench(options);
+  ASSERT_FALSE(r.ok());
+  EXPECT_THAT(r.error().Format(), HasSubstr("--set physics.nothing=1"));
 }
 
 TEST(BareSensingChain, FindsEachFingertip) {

@@ -7,10 +7,12 @@
 
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/core/table.h"
+#include "proxygrasp/core/timer.h"
 #include "proxygrasp/sensing/types.h"
 
 #include <opencv2/core.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -48,6 +50,10 @@ struct BenchOptions {
   int frames = 120;                 ///< timed frames per scene and repeat (60 Hz: 2 s of motion)
   int repeat = 1;                   ///< runs of each scene; the figures pool every run's frames
   std::vector<std::string> scenes;  ///< names from BenchSceneNames(); empty runs them all
+  std::vector<std::string> sets;    ///< parameter overrides "section.key=value" for every scene
+  /// What the stage times measure: the stepping thread's CPU time (default: comparable on a loaded
+  /// machine), or wall time (physics.threads > 1, whose worker threads the CPU clock misses).
+  TimerClock clock = TimerClock::kThreadCpu;
 };
 
 /// The median and 99th percentile (nearest rank) of a per-frame time, ms.
@@ -67,6 +73,9 @@ struct BenchScene {
   double bodies = 0.0;              ///< mean Box2D bodies after a frame
   std::vector<BenchFigure> stages;  ///< "sense", "track", "proxies", "physics", "total"
   BenchFigure total;                ///< the "total" stage again, sensing to physics
+  /// FNV-1a of every object's pose and velocity bits after the first repeat's last frame: equal
+  /// hashes mean bit-identical runs (physics.threads must not change them).
+  uint64_t stateHash = 0;
 };
 
 /// A baseline beside the stage it is compared with, on the same frames: medians per frame, ms.
@@ -92,8 +101,10 @@ struct BenchMachine {
 /// Everything one bench run measured.
 struct BenchReport {
   BenchMachine machine;
-  int frames = 0;  ///< BenchOptions::frames
-  int repeat = 0;  ///< BenchOptions::repeat
+  int frames = 0;                             ///< BenchOptions::frames
+  int repeat = 0;                             ///< BenchOptions::repeat
+  TimerClock clock = TimerClock::kThreadCpu;  ///< BenchOptions::clock
+  std::vector<std::string> sets;              ///< BenchOptions::sets
   std::vector<BenchScene> scenes;
   std::vector<BenchFigure> render;  ///< per scene (name = scene), one synthetic camera frame
   std::vector<BenchBaseline> baselines;
