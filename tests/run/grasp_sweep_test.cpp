@@ -20,8 +20,7 @@ using ::testing::HasSubstr;
 
 // A fingertip against a flat face, integrated along its outline (arc length, not samples): what
 // the phase-averaged sum over contour samples must approach.
-double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double radius,
-                        double depth) {
+double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double radius, double depth) {
   const double k = physics.gripStiffness, r = physics.particleRadius;
   constexpr int kSteps = 200000;
   double sum = 0.0;
@@ -123,8 +122,7 @@ TEST(GraspRule, ATurnNeedsTableFrictionOverTheBaseAndInertiaAgainstFingertipFric
   const double rEff = EffectiveFrictionRadius(s.object, mass.centroid);
   const double alpha = s.turnRate * s.turnRate / s.turn;
   const double w = 100.0 * physics.gravity;
-  EXPECT_NEAR(p.requirement, std::max(0.5 * w * rEff, 0.4 * w * rEff + mass.inertia * alpha),
-              1e-6);
+  EXPECT_NEAR(p.requirement, std::max(0.5 * w * rEff, 0.4 * w * rEff + mass.inertia * alpha), 1e-6);
   // friction along each face at the face's distance, 2 cm, from the centre
   EXPECT_NEAR(p.capacity, 0.8 * p.normalForce * 2.0, 1e-6 * p.capacity);
 }
