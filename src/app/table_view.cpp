@@ -139,10 +139,6 @@ cv::Mat SensingView(const Simulation& sim, const cv::Mat& table) {
   std::vector<PreviewContact> shown;
   for (const Contact& c : sim.contacts().contacts)
     if (c.state != ContactState::kLifted) shown.push_back({&c.blob, static_cast<int>(c.id)});
-  // the preview in one row, cut into its tiles below
-  const cv::Mat row = SensingPreview(sim.sensor(), shown, kSensingStageCount);
-  if (row.empty()) return table;
-
   // the column count that gives the largest tiles
   constexpr int kTiles = kSensingStageCount + 1;
   int columns = 1;
@@ -157,8 +153,10 @@ cv::Mat SensingView(const Simulation& sim, const cv::Mat& table) {
     }
   }
   const int rows = (kTiles + columns - 1) / columns;
-  const cv::Size tile(std::max(1, static_cast<int>(camera.cols * scale)),
-                      std::max(1, static_cast<int>(camera.rows * scale)));
+  // the preview's tiles at that size in one row, cut apart below
+  const cv::Mat row = SensingPreview(sim.sensor(), shown, kSensingStageCount, scale);
+  if (row.empty()) return table;
+  const cv::Size tile(row.cols / kSensingStageCount, row.rows);
   const cv::Point origin((table.cols - columns * tile.width) / 2,
                          (table.rows - rows * tile.height) / 2);
   cv::Mat out(table.size(), CV_8UC3, view_colors::kOutside);
@@ -180,10 +178,8 @@ cv::Mat SensingView(const Simulation& sim, const cv::Mat& table) {
                fit, 0, 0, cv::INTER_AREA);
   }
   // then the preview's tiles in chain order
-  for (int k = 0; k < kSensingStageCount; ++k) {
-    const cv::Mat src = row(cv::Rect(k * camera.cols, 0, camera.cols, camera.rows));
-    cv::resize(src, out(slot(k + 1)), tile, 0, 0, cv::INTER_AREA);
-  }
+  for (int k = 0; k < kSensingStageCount; ++k)
+    row(cv::Rect(k * tile.width, 0, tile.width, tile.height)).copyTo(out(slot(k + 1)));
   return out;
 }
 
