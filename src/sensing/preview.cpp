@@ -22,9 +22,10 @@ cv::Mat Tile(const cv::Mat& grey, cv::Size size, const std::string& label) {
                  size.width < grey.cols ? cv::INTER_AREA : cv::INTER_LINEAR);
     cv::cvtColor(scaled, tile, cv::COLOR_GRAY2BGR);
   }
+  // the label at the bottom left: the app's heads-up lines cover the top of the first tiles
   const double scale = std::max(0.4, size.width / 640.0);
-  cv::putText(tile, label, cv::Point(6, static_cast<int>(18 * scale)), cv::FONT_HERSHEY_SIMPLEX,
-              0.5 * scale, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
+  cv::putText(tile, label, cv::Point(6, size.height - static_cast<int>(8 * scale)),
+              cv::FONT_HERSHEY_SIMPLEX, 0.5 * scale, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
   return tile;
 }
 
