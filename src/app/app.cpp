@@ -45,6 +45,7 @@ const std::vector<std::string> kHelpLines = {
     "V  start / stop recording (input .mkv + trace)",
     "E  force vectors           Y  successor links",
     "C  raw camera image        [ ]  one layer at a time",
+    "I  sensing view: each filter stage, contacts and ids",
     "H  this help               Esc  quit",
     "",
     "Mouse",
@@ -484,6 +485,9 @@ void App::Impl::HandleKey(SDL_Keycode key) {
     case SDLK_c:
       viewOptions.cameraImage = !viewOptions.cameraImage;
       break;
+    case SDLK_i:
+      viewOptions.sensing = !viewOptions.sensing;
+      break;
     case SDLK_RIGHTBRACKET:
       viewOptions.layer =
           viewOptions.layer + 1 >= params.physics.layers ? -1 : viewOptions.layer + 1;
@@ -790,6 +794,7 @@ void App::Impl::DrawPanel() {
     ImGui::Checkbox("force vectors", &viewOptions.forces);
     ImGui::Checkbox("successor links", &viewOptions.successors);
     ImGui::Checkbox("raw camera image", &viewOptions.cameraImage);
+    ImGui::Checkbox("sensing view (filter stages)", &viewOptions.sensing);
     ImGui::SliderInt("layer (-1 all)", &viewOptions.layer, -1, params.physics.layers - 1);
   }
 

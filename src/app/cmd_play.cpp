@@ -195,7 +195,7 @@ void AddPlayCommand(CLI::App& app, int& exitCode) {
       ->needs("--frames");
   cmd->add_option("--size", args.size, "Window size WxH in pixels (default 1280x960)");
   cmd->add_option("--show", args.show,
-                  "Overlays at start: forces,successors,camera,help,nohud,layer=N");
+                  "Overlays at start: forces,successors,camera,sensing,help,nohud,layer=N");
   cmd->add_option("--out", args.outDir, "Folder for screenshots, recordings and headless output");
   cmd->add_option("--tuio-out", args.tuioOut,
                   "Also send each frame's contacts as TUIO 2.0 to HOST:PORT over UDP, or record "

@@ -108,7 +108,7 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
                   "Draw the first run, as play draws it, into this video (.mp4: mp4v)");
   cmd->add_option("--png", args.png, "Save the frame at 60% of the first run as this PNG");
   cmd->add_option("--show", args.show,
-                  "Overlays of --video and --png: forces,successors,camera,nohud,layer=N");
+                  "Overlays of --video and --png: forces,successors,camera,sensing,nohud,layer=N");
   cmd->add_flag("--profile", args.profile, "Print median and p99 milliseconds per stage");
   cmd->add_option("--input", args.input,
                   "Take every run's frames from here instead of the level's script: tuio:PORT or "

@@ -2,6 +2,7 @@
 
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/preview.h"
 
 #include <opencv2/imgproc.hpp>
 
@@ -128,6 +129,60 @@ void Arrow(cv::Mat& img, const cv::Point2d& from, const Vec2& displayVector, con
   cv::arrowedLine(img, Fixed(from), Fixed(to), c, 2, cv::LINE_AA, kShift, 0.2);
 }
 
+// The sensing view: the table drawing and the sensing preview's tiles (the camera image with the
+// contacts' outlines and ids, then each filter stage) in a grid laid out to show them largest in
+// the window, table drawing first, where the heads-up lines go. Before the first camera frame,
+// the table drawing alone.
+cv::Mat SensingView(const Simulation& sim, const cv::Mat& table) {
+  const cv::Mat& camera = sim.sensor().StageImage(SensingStage::kCamera);
+  if (camera.empty()) return table;
+  std::vector<PreviewContact> shown;
+  for (const Contact& c : sim.contacts().contacts)
+    if (c.state != ContactState::kLifted) shown.push_back({&c.blob, static_cast<int>(c.id)});
+  // the column count that gives the largest tiles
+  constexpr int kTiles = kSensingStageCount + 1;
+  int columns = 1;
+  double scale = 0.0;
+  for (int c = 1; c <= kTiles; ++c) {
+    const int rows = (kTiles + c - 1) / c;
+    const double s = std::min(static_cast<double>(table.cols) / (c * camera.cols),
+                              static_cast<double>(table.rows) / (rows * camera.rows));
+    if (s > scale) {
+      scale = s;
+      columns = c;
+    }
+  }
+  const int rows = (kTiles + columns - 1) / columns;
+  // the preview's tiles at that size in one row, cut apart below
+  const cv::Mat row = SensingPreview(sim.sensor(), shown, kSensingStageCount, scale);
+  if (row.empty()) return table;
+  const cv::Size tile(row.cols / kSensingStageCount, row.rows);
+  const cv::Point origin((table.cols - columns * tile.width) / 2,
+                         (table.rows - rows * tile.height) / 2);
+  cv::Mat out(table.size(), CV_8UC3, view_colors::kOutside);
+  const auto slot = [&](int i) {
+    return cv::Rect(origin.x + (i % columns) * tile.width, origin.y + (i / columns) * tile.height,
+                    tile.width, tile.height);
+  };
+
+  // the table drawing, its aspect kept inside the first tile
+  {
+    const double s = std::min(static_cast<double>(tile.width) / table.cols,
+                              static_cast<double>(tile.height) / table.rows);
+    const cv::Size fit(std::max(1, static_cast<int>(table.cols * s)),
+                       std::max(1, static_cast<int>(table.rows * s)));
+    const cv::Rect at = slot(0);
+    cv::resize(table,
+               out(cv::Rect(at.x + (tile.width - fit.width) / 2,
+                            at.y + (tile.height - fit.height) / 2, fit.width, fit.height)),
+               fit, 0, 0, cv::INTER_AREA);
+  }
+  // then the preview's tiles in chain order
+  for (int k = 0; k < kSensingStageCount; ++k)
+    row(cv::Rect(k * tile.width, 0, tile.width, tile.height)).copyTo(out(slot(k + 1)));
+  return out;
+}
+
 }  // namespace
 
 DisplayMap::DisplayMap(const cv::Matx33d& tableToDisplay)
@@ -183,6 +238,8 @@ MaybeError ParseViewOptions(const std::string& list, ViewOptions& options) {
       options.successors = true;
     } else if (word == "camera") {
       options.cameraImage = true;
+    } else if (word == "sensing") {
+      options.sensing = true;
     } else if (word == "help") {
       options.help = true;
     } else if (word == "nohud") {
@@ -194,8 +251,9 @@ MaybeError ParseViewOptions(const std::string& list, ViewOptions& options) {
         return MakeError({}, "'" + word + "': the layer must be a number from 0");
       options.layer = static_cast<int>(layer);
     } else {
-      return MakeError({}, "unknown view '" + word +
-                               "' (expected forces, successors, camera, help, nohud or layer=N)");
+      return MakeError(
+          {}, "unknown view '" + word +
+                  "' (expected forces, successors, camera, sensing, help, nohud or layer=N)");
     }
   }
   return std::nullopt;
@@ -450,6 +508,8 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
       Arrow(img, com, toDisplayVector(friction), cv::Scalar(40, 140, 255));
     }
   }
+
+  if (options.sensing) img = SensingView(sim, img);
 
   // the heads-up lines
   int y = 6;

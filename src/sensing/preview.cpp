@@ -3,32 +3,41 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace pg {
 
 namespace {
 
-// one labelled BGR tile from a grey stage image
+// one labelled BGR tile of `size` from a grey stage image
 cv::Mat Tile(const cv::Mat& grey, cv::Size size, const std::string& label) {
   cv::Mat tile;
-  if (grey.empty())
+  if (grey.empty()) {
     tile = cv::Mat::zeros(size, CV_8UC3);
-  else
-    cv::cvtColor(grey, tile, cv::COLOR_GRAY2BGR);
+  } else {
+    cv::Mat scaled = grey;
+    if (grey.size() != size)
+      cv::resize(grey, scaled, size, 0, 0,
+                 size.width < grey.cols ? cv::INTER_AREA : cv::INTER_LINEAR);
+    cv::cvtColor(scaled, tile, cv::COLOR_GRAY2BGR);
+  }
+  // the label at the bottom left: the app's heads-up lines cover the top of the first tiles
   const double scale = std::max(0.4, size.width / 640.0);
-  cv::putText(tile, label, cv::Point(6, static_cast<int>(18 * scale)), cv::FONT_HERSHEY_SIMPLEX,
-              0.5 * scale, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
+  cv::putText(tile, label, cv::Point(6, size.height - static_cast<int>(8 * scale)),
+              cv::FONT_HERSHEY_SIMPLEX, 0.5 * scale, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
   return tile;
 }
 
 }  // namespace
 
 cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& contacts,
-                       int columns) {
+                       int columns, double scale) {
   const cv::Mat& camera = sensor.StageImage(SensingStage::kCamera);
-  if (camera.empty() || columns < 1) return cv::Mat();
-  const cv::Size size = camera.size();
+  if (camera.empty() || columns < 1 || !(scale > 0.0)) return cv::Mat();
+  // tiles are scaled before the outlines and labels go on, so those stay sharp at any size
+  const cv::Size size(std::max(1, static_cast<int>(camera.cols * scale)),
+                      std::max(1, static_cast<int>(camera.rows * scale)));
 
   // the camera image with each contact's outline (green) and id (red) in camera pixels
   cv::Mat first = Tile(camera, size, "camera + contacts");
@@ -36,13 +45,13 @@ cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& 
     if (c.blob == nullptr || c.blob->contour.cols() < 3) continue;
     std::vector<cv::Point> outline;
     for (Eigen::Index k = 0; k < c.blob->contour.cols(); ++k) {
-      const Vec2 px = sensor.model().TableToCamera(c.blob->contour.col(k));
+      const Vec2 px = scale * sensor.model().TableToCamera(c.blob->contour.col(k));
       outline.emplace_back(static_cast<int>(std::lround(px.x())),
                            static_cast<int>(std::lround(px.y())));
     }
     cv::polylines(first, outline, true, cv::Scalar(0, 255, 0), 1, cv::LINE_AA);
     if (c.id >= 0) {
-      const Vec2 at = sensor.model().TableToCamera(c.blob->centroid);
+      const Vec2 at = scale * sensor.model().TableToCamera(c.blob->centroid);
       cv::putText(first, std::to_string(c.id),
                   cv::Point(static_cast<int>(at.x()) + 6, static_cast<int>(at.y()) - 6),
                   cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 255), 1, cv::LINE_AA);

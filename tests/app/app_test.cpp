@@ -301,6 +301,38 @@ TEST_F(AppTest, KeysQueueRequestsAppliedBetweenFrames) {
   EXPECT_FALSE(app.Tick());
 }
 
+// a key press as the keyboard sends it to the app's window
+void PushKey(const App& app, SDL_Keycode key, SDL_Scancode scancode) {
+  SDL_Event e{};
+  e.type = SDL_KEYDOWN;
+  e.key.windowID = app.windowId();
+  e.key.state = SDL_PRESSED;
+  e.key.keysym.sym = key;
+  e.key.keysym.scancode = scancode;
+  ASSERT_EQ(SDL_PushEvent(&e), 1) << SDL_GetError();
+}
+
+TEST_F(AppTest, KeyIShowsTheSensingViewAndHidesItAgain) {
+  App app;
+  ASSERT_FALSE(app.Open(Options(kTestData + "/box_goal.toml", "script")));
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(app.Tick());
+  // the box's top colour: drawn full size, then in the sensing view's first tile (a third of the
+  // window's width, so about a ninth of the pixels), then full size again
+  const auto boxPixels = [&] {
+    return test::FindColor(app.picture(), view_colors::Object(0), 12).count;
+  };
+  const int plain = boxPixels();
+  ASSERT_GT(plain, 0);
+  PushKey(app, SDLK_i, SDL_SCANCODE_I);
+  ASSERT_TRUE(app.Tick());
+  const int tiled = boxPixels();
+  EXPECT_GT(tiled, 0);
+  EXPECT_LT(tiled, plain / 4);
+  PushKey(app, SDLK_i, SDL_SCANCODE_I);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_GT(boxPixels(), plain / 2);
+}
+
 TEST_F(AppTest, LiveParameterChangesKeepTheRunningLevel) {
   App app;
   ASSERT_FALSE(app.Open(Options(kTestData + "/box_goal.toml", "script")));

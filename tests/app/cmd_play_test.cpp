@@ -96,6 +96,35 @@ TEST(PlayCommand, ScreenshotShowsObjectsParticlesAndTheGoal) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(PlayCommand, ShowSensingShowsTheFilterStagesInTheWindow) {
+  if (!std::filesystem::exists(test::kXvfb)) GTEST_SKIP() << "Xvfb is not installed";
+  test::Xvfb xvfb;
+  ASSERT_TRUE(xvfb.Start());
+  const std::string dir = TempDir("sensing");
+  // the same frames with and without the sensing view
+  cv::Mat shots[2];
+  for (int i = 0; i < 2; ++i) {
+    const std::string shot = dir + "/shot" + std::to_string(i) + ".png";
+    const test::CommandResult r =
+        RunWithEnv("-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
+                   "play " + kLevel + " --input script --frames 10 --screenshot " + shot +
+                       " --size 800x600 --out " + dir + (i == 1 ? " --show sensing" : ""));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    shots[i] = cv::imread(shot);
+    ASSERT_EQ(shots[i].size(), cv::Size(800, 600)) << shot;
+  }
+  // the box (its top slice's full colour) is drawn full size without, in a tile a third as wide
+  // (a ninth of the area) with the view on
+  const int plain = test::FindColor(shots[0], view_colors::Object(0), kColorTolerance).count;
+  const int tiled = test::FindColor(shots[1], view_colors::Object(0), kColorTolerance).count;
+  EXPECT_GT(plain, 0);
+  EXPECT_GT(tiled, 0);
+  EXPECT_LT(tiled, plain / 4);
+  // the stages' grey images fill the window where the table drawing was
+  EXPECT_GT(cv::norm(shots[0], shots[1], cv::NORM_L1), 0.0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(PlayCommand, WithoutADisplayWritesAVideoAndAPng) {
   const std::string dir = TempDir("headless");
   const test::CommandResult r = RunWithEnv("-u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER",

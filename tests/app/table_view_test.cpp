@@ -106,6 +106,9 @@ TEST(ViewOptions, ParsesAListOfOverlays) {
   EXPECT_TRUE(options.cameraImage);
   EXPECT_FALSE(options.hud);
   EXPECT_EQ(options.layer, 2);
+  EXPECT_FALSE(options.sensing);
+  ASSERT_FALSE(ParseViewOptions("sensing", options));
+  EXPECT_TRUE(options.sensing);
   ASSERT_FALSE(ParseViewOptions("", options));
   const MaybeError bad = ParseViewOptions("forces,frcs", options);
   ASSERT_TRUE(bad);
@@ -322,6 +325,63 @@ TEST_F(TableViewTest, CameraImageShowsUnderTheDrawing) {
   const cv::Vec3b withImage = view.Draw(sim, map, kSize, options).at<cv::Vec3b>(empty);
   // the camera's background (about 40 grey) is blended in: the table gets brighter
   EXPECT_GT(withImage[1], plain[1] + 5);
+}
+
+// pixels of the preview's labels (yellow text): well more green and red than blue, which no grey
+// stage image and no green outline has
+int YellowPixels(const cv::Mat& bgr) {
+  int n = 0;
+  for (int v = 0; v < bgr.rows; ++v)
+    for (int u = 0; u < bgr.cols; ++u) {
+      const cv::Vec3b p = bgr.at<cv::Vec3b>(v, u);
+      n += p[1] > p[0] + 60 && p[2] > p[0] + 60;
+    }
+  return n;
+}
+
+// pixels of the contact outlines on the camera image (green): green well above blue and red
+int GreenPixels(const cv::Mat& bgr) {
+  int n = 0;
+  for (int v = 0; v < bgr.rows; ++v)
+    for (int u = 0; u < bgr.cols; ++u) {
+      const cv::Vec3b p = bgr.at<cv::Vec3b>(v, u);
+      n += p[1] > p[0] + 60 && p[1] > p[2] + 60;
+    }
+  return n;
+}
+
+TEST_F(TableViewTest, SensingViewShowsTheTableAndEveryStageInAGrid) {
+  TableView view;
+  ViewOptions options;
+  options.sensing = true;
+  options.hud = false;  // the heads-up lines would cover part of the first tile
+  const cv::Mat picture = view.Draw(sim, map, kSize, options);
+  ASSERT_EQ(picture.size(), kSize);
+  // 8 tiles of the 640x480 camera image in 1024x768 px: 3 columns of 3 rows show them largest
+  // (1024 / 3 = 341 px wide, against 256 px for 4 columns of 2 rows)
+  const cv::Size camera = sim.CameraSize();
+  ASSERT_EQ(camera, cv::Size(640, 480));
+  const cv::Size tile(341, 256);  // 341 px wide at the camera's 4:3, give or take rounding
+  const cv::Point origin((kSize.width - 3 * tile.width) / 2, (kSize.height - 3 * tile.height) / 2);
+  // a tile's rectangle grown (or shrunk) by `margin` px, which covers the rounding of its size
+  const auto slot = [&](int i, int margin) {
+    const cv::Rect r(origin.x + (i % 3) * tile.width - margin,
+                     origin.y + (i / 3) * tile.height - margin, tile.width + 2 * margin,
+                     tile.height + 2 * margin);
+    return r & cv::Rect(cv::Point(0, 0), kSize);
+  };
+  // the table drawing, box and all, in the first tile only
+  const test::ColorPixels box = FindColor(picture, view_colors::Object(0), kColorTolerance);
+  ASSERT_GT(box.count, 0);
+  EXPECT_EQ((box.bounds & slot(0, 3)), box.bounds);
+  // the contact's outline on the camera image, in the second tile only
+  EXPECT_GT(GreenPixels(picture(slot(1, -3))), 10);
+  EXPECT_EQ(GreenPixels(picture), GreenPixels(picture(slot(1, 3))));
+  // each stage's tile has its label
+  for (int k = 0; k < kSensingStageCount; ++k)
+    EXPECT_GT(YellowPixels(picture(slot(k + 1, -3))), 20) << kSensingStageNames[k];
+  // and without the option, the table drawing alone: contacts in light grey, no green outline
+  EXPECT_EQ(GreenPixels(view.Draw(sim, map, kSize, {})), 0);
 }
 
 }  // namespace

@@ -44,6 +44,23 @@ TEST(SensingPreview, ShowsEveryStageAndTheContactOutlines) {
   const cv::Vec3b b =
       view.at<cv::Vec3b>(480 + static_cast<int>(c.y()), 2 * 640 + static_cast<int>(c.x()));
   EXPECT_EQ(b, cv::Vec3b(255, 255, 255));
+
+  // at half scale (what a window shows): tiles of 320x240, the outline drawn at that size
+  const cv::Mat half = SensingPreview(sensor, {{&r.value().blobs[0], 3}}, 4, 0.5);
+  ASSERT_EQ(half.size(), cv::Size(4 * 320, 2 * 240));
+  int halfGreen = 0;
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      const cv::Vec3b p = half.at<cv::Vec3b>(static_cast<int>(0.5 * edge.y()) + dy,
+                                             static_cast<int>(0.5 * edge.x()) + dx);
+      halfGreen += p[1] > 200 && p[0] < 100 && p[2] < 100;
+    }
+  EXPECT_GT(halfGreen, 0);
+  EXPECT_EQ(half.at<cv::Vec3b>(240 + static_cast<int>(0.5 * c.y()),
+                               2 * 320 + static_cast<int>(0.5 * c.x())),
+            cv::Vec3b(255, 255, 255));
+  // a scale that is not positive gives nothing
+  EXPECT_TRUE(SensingPreview(sensor, {}, 4, 0.0).empty());
 }
 
 }  // namespace

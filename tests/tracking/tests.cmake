@@ -1,1 +1,2 @@
 proxygrasp_test(tracking tracker)
+proxygrasp_test(tracking id_switches)

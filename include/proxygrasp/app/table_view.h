@@ -52,12 +52,16 @@ struct ViewOptions {
   bool successors = false;  ///< a line from where each reused particle was last drawn to its target
   int layer = -1;           ///< draw only this height layer (-1: every layer)
   bool cameraImage = false;  ///< the raw camera image under the drawing
-  bool hud = true;           ///< the heads-up line
-  bool help = false;         ///< the key help overlay
+  /// The sensing view, for tuning on a real table: the window shows each filter stage of the
+  /// last camera frame side by side, the contacts' outlines and ids on the camera image, and the
+  /// table drawing in the first tile.
+  bool sensing = false;
+  bool hud = true;    ///< the heads-up line
+  bool help = false;  ///< the key help overlay
 };
 
 /// Turns on the overlays named in a comma-separated list: "forces", "successors", "camera",
-/// "help", "nohud", "layer=N". Errors name the unknown word.
+/// "sensing", "help", "nohud", "layer=N". Errors name the unknown word.
 MaybeError ParseViewOptions(const std::string& list, ViewOptions& options);
 
 /// Text the caller adds to the picture: frame rate, state and errors.

@@ -18,8 +18,9 @@ struct PreviewContact {
 
 /// A BGR image of the sensor's last frame: the camera image with the contacts' outlines and ids,
 /// then each filter stage (SensingStage order, background to binary), labelled, in a grid of
-/// `columns` tiles each the camera image's size. Empty when the sensor has not run a frame.
+/// `columns` tiles each the camera image's size times `scale` (> 0; the outlines, ids and labels
+/// are drawn at that size). Empty when the sensor has not run a frame.
 cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& contacts,
-                       int columns = 4);
+                       int columns = 4, double scale = 1.0);
 
 }  // namespace pg

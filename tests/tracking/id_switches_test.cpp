@@ -1,0 +1,219 @@
+#include "proxygrasp/tracking/id_switches.h"
+
+#include "proxygrasp/sensing/types.h"
+#include "proxygrasp/tracking/tracker.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/videoio.hpp>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "sensing/real_footage.h"
+
+namespace pg {
+namespace {
+
+Contact ContactAt(ContactId id, ContactState state, double x, double y) {
+  Contact c;
+  c.id = id;
+  c.state = state;
+  c.blob.centroid = Vec2(x, y);
+  c.blob.area = 2.0;
+  return c;
+}
+
+ContactSet Set(int64_t frame, std::vector<Contact> contacts) {
+  ContactSet s;
+  s.frame = frame;
+  s.time = frame / 30.0;
+  s.contacts = std::move(contacts);
+  return s;
+}
+
+constexpr ContactState kNew = ContactState::kNew;
+constexpr ContactState kOn = ContactState::kContinuing;
+constexpr ContactState kLifted = ContactState::kLifted;
+
+TEST(IdSwitchCounter, ATrackThatLiftsAndReappearsCountsOne) {
+  IdSwitchCounter counter;
+  counter.Add(Set(0, {ContactAt(1, kNew, 10, 10)}));
+  counter.Add(Set(1, {ContactAt(1, kOn, 10.2, 10)}));
+  counter.Add(Set(2, {ContactAt(1, kLifted, 10.2, 10)}));  // gone for frames 2 and 3
+  counter.Add(Set(3, {}));
+  counter.Add(Set(4, {ContactAt(2, kNew, 10.6, 10.3)}));  // 0.5 cm from where it lifted
+  counter.Add(Set(5, {ContactAt(2, kOn, 10.6, 10.3)}));
+  EXPECT_EQ(counter.count().switches, 1);
+  EXPECT_EQ(counter.count().frames, 6);
+  EXPECT_EQ(counter.count().contactFrames, 4);  // frames 0, 1, 4, 5
+  // 4 contact frames at 30 fps: 4 / 30 / 60 min
+  EXPECT_DOUBLE_EQ(counter.count().MinutesOfTouch(30.0), 4.0 / 30.0 / 60.0);
+  EXPECT_DOUBLE_EQ(counter.count().PerMinuteOfTouch(30.0), 1.0 / (4.0 / 30.0 / 60.0));
+}
+
+TEST(IdSwitchCounter, TwoFarApartFingersCountNone) {
+  IdSwitchCounter counter;
+  // one finger lifts at (10, 10) while another, 20 cm away (beyond a hand's span), lands and stays
+  counter.Add(Set(0, {ContactAt(1, kNew, 10, 10)}));
+  counter.Add(Set(1, {ContactAt(1, kOn, 10, 10)}));
+  counter.Add(Set(2, {ContactAt(2, kNew, 30, 10), ContactAt(1, kLifted, 10, 10)}));
+  // and a third lands 5 cm from where the first lifted, after it
+  counter.Add(Set(3, {ContactAt(2, kOn, 30, 10), ContactAt(3, kNew, 10, 15)}));
+  counter.Add(Set(4, {ContactAt(2, kOn, 30, 10), ContactAt(3, kOn, 10, 15)}));
+  EXPECT_EQ(counter.count().switches, 0);
+  EXPECT_EQ(counter.count().contactFrames, 7);
+}
+
+TEST(IdSwitchCounter, FingersThatJumpFartherThanTheTrackersReachCountOneEach) {
+  IdSwitchCounter counter;
+  // two fingers spread apart by 5.5 cm each in one frame (a recording with dropped frames): the
+  // tracker lists both as lifted and two new ones
+  counter.Add(Set(0, {ContactAt(1, kNew, 46, 33), ContactAt(2, kNew, 69, 33)}));
+  counter.Add(Set(1, {ContactAt(3, kNew, 40.5, 33), ContactAt(4, kNew, 74.5, 33),
+                      ContactAt(1, kLifted, 46, 33), ContactAt(2, kLifted, 69, 33)}));
+  ASSERT_EQ(counter.count().switches, 2);
+  EXPECT_EQ(counter.count().jumps, 2);
+  ASSERT_EQ(counter.switches().size(), 2u);
+  EXPECT_EQ(counter.switches()[0].kind, IdSwitchKind::kJump);
+  EXPECT_NEAR(counter.switches()[0].distance, 5.5, 1e-9);
+  // the pairs are the near ones, not across the hands
+  EXPECT_EQ(counter.switches()[0].lifted + 2, counter.switches()[0].next);
+  EXPECT_EQ(counter.switches()[1].lifted + 2, counter.switches()[1].next);
+}
+
+TEST(IdSwitchCounter, MoreFingersLandingThanLiftingIsNoJump) {
+  IdSwitchCounter counter;
+  // a hand lands (three new contacts) as one finger lifts 5 cm away: not the same fingers
+  counter.Add(Set(0, {ContactAt(1, kNew, 10, 10)}));
+  counter.Add(Set(1, {ContactAt(2, kNew, 15, 10), ContactAt(3, kNew, 17, 10),
+                      ContactAt(4, kNew, 19, 10), ContactAt(1, kLifted, 10, 10)}));
+  EXPECT_EQ(counter.count().switches, 0);
+}
+
+TEST(IdSwitchCounter, AReturnAfterTheGapIsANewTouch) {
+  IdSwitchCounter counter;  // maxGapFrames 3
+  counter.Add(Set(0, {ContactAt(1, kNew, 10, 10)}));
+  counter.Add(Set(1, {ContactAt(1, kLifted, 10, 10)}));
+  for (int64_t f = 2; f <= 4; ++f) counter.Add(Set(f, {}));
+  counter.Add(Set(5, {ContactAt(2, kNew, 10, 10)}));  // 4 frames after the lift
+  EXPECT_EQ(counter.count().switches, 0);
+
+  // the same with the return on the last frame of the gap counts
+  IdSwitchCounter inTime;
+  inTime.Add(Set(0, {ContactAt(1, kNew, 10, 10)}));
+  inTime.Add(Set(1, {ContactAt(1, kLifted, 10, 10)}));
+  for (int64_t f = 2; f <= 3; ++f) inTime.Add(Set(f, {}));
+  inTime.Add(Set(4, {ContactAt(2, kNew, 10, 10)}));
+  EXPECT_EQ(inTime.count().switches, 1);
+}
+
+TEST(IdSwitchCounter, EachLiftIsContinuedOnce) {
+  IdSwitchCounter counter;
+  // one finger flickers out and two new blobs start beside where it was: one switch, the other
+  // blob is a new contact
+  counter.Add(Set(0, {ContactAt(1, kNew, 10, 10)}));
+  counter.Add(Set(1, {ContactAt(1, kLifted, 10, 10)}));
+  counter.Add(Set(2, {ContactAt(2, kNew, 10.5, 10), ContactAt(3, kNew, 9.5, 10)}));
+  EXPECT_EQ(counter.count().switches, 1);
+}
+
+TEST(IdSwitchCounter, NoTouchGivesZeroPerMinute) {
+  IdSwitchCounter counter;
+  counter.Add(Set(0, {}));
+  EXPECT_EQ(counter.count().MinutesOfTouch(30.0), 0.0);
+  EXPECT_EQ(counter.count().PerMinuteOfTouch(30.0), 0.0);
+  EXPECT_EQ(counter.count().PerMinuteOfTouch(0.0), 0.0);
+}
+
+// ---- real table footage (../shared/real) ----
+
+// Issue 14: "a finger held on the table keeps one id". A continuous clip run through the real
+// table sensing settings and the default tracker (what `play` and `sense` use): its id switches,
+// printed with why each was counted. Empty with `skip` set when the clip cannot be run here.
+struct Measured {
+  IdSwitchCount count;
+  double fps = 0.0;
+  std::string skip;
+};
+
+Measured MeasureClip(const std::string& name) {
+  Measured m;
+  const std::string dir = real::RealDataDir();
+  if (dir.empty()) {
+    m.skip =
+        "../shared/real is absent (a clone of the project alone): no real footage to measure "
+        "id switches on; set PROXYGRASP_REAL_DATA to its folder";
+    return m;
+  }
+  if (!std::filesystem::exists(dir + "/" + name)) {
+    m.skip = dir + "/" + name + " is absent on this machine: no id switches measured on it";
+    return m;
+  }
+  const std::vector<real::LabelledClip> clips =
+      real::ReadLabels(PROXYGRASP_SOURCE_DIR "/tests/sensing/testdata/real_labels.txt");
+  const real::LabelledClip* clip = nullptr;
+  for (const real::LabelledClip& c : clips)
+    if (c.path == name) clip = &c;
+  if (clip == nullptr) {
+    ADD_FAILURE() << name << " has no scale in tests/sensing/testdata/real_labels.txt";
+    return m;
+  }
+  m.fps = cv::VideoCapture(dir + "/" + name).get(cv::CAP_PROP_FPS);
+  EXPECT_GT(m.fps, 0.0) << name;
+
+  Tracker tracker;
+  IdSwitchCounter counter;
+  EXPECT_TRUE(real::RunClip(
+      dir, *clip, RealTableSensingParams(), 1 << 30,
+      [&](int, const ContourFrame& f, const Sensor&) { counter.Add(tracker.Step(f)); }))
+      << "cannot read " << dir << "/" << name;
+  m.count = counter.count();
+  const IdSwitchCount& n = m.count;
+  std::printf(
+      "%s: %lld frames at %.1f fps, %.2f min of touch, %d id switches (%d flickers, %d "
+      "jumps), %.1f per minute of touch\n",
+      name.c_str(), static_cast<long long>(n.frames), m.fps, n.MinutesOfTouch(m.fps), n.switches,
+      n.switches - n.jumps, n.jumps, n.PerMinuteOfTouch(m.fps));
+  for (const IdSwitch& s : counter.switches())
+    std::printf(
+        "  frame %lld: %s, id %d -> %d after %d frames, %.2f cm away, lifted area %.2f "
+        "cm^2\n",
+        static_cast<long long>(s.frame), kIdSwitchKindNames[static_cast<int>(s.kind)], s.lifted,
+        s.next, s.gapFrames, s.distance, s.liftedArea);
+  return m;
+}
+
+// The acceptance bound: at most one id switch per minute of touch, i.e. a finger held on the
+// table keeps its id for a minute on average. It allows for the rare false count of the
+// definition (another finger landing where one just lifted); on hard-5point.avi's 0.4 minutes of
+// touch a single switch (2.5 per minute) fails it.
+constexpr double kMaxSwitchesPerMinuteOfTouch = 1.0;
+
+TEST(RealFootage, AHeldFingerKeepsItsIdOnHard5Point) {
+  const Measured m = MeasureClip("touchlib/hard-5point.avi");
+  if (!m.skip.empty()) GTEST_SKIP() << m.skip;
+  EXPECT_GT(m.count.MinutesOfTouch(m.fps), 0.1) << "the clip's fingers were not found";
+  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), kMaxSwitchesPerMinuteOfTouch);
+}
+
+// Not met yet (issue 14 stays open on it): seth_tests.avi gives 33 switches in 2.2 minutes of
+// touch (15 per minute). 23 are jumps: the recording moves in steps (a finger still for several
+// frames, then 4.4 to 6.4 cm in one frame), farther than tracking.max_distance (4 cm); 10 are
+// flickers, mostly faint fingertips at about min_area (0.5 cm^2) dropping out for 1 to 3 frames.
+TEST(RealFootage, DISABLED_AHeldFingerKeepsItsIdOnSethTests) {
+  const Measured m = MeasureClip("ccv-hand/seth_tests.avi");
+  if (!m.skip.empty()) GTEST_SKIP() << m.skip;
+  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), kMaxSwitchesPerMinuteOfTouch);
+}
+
+// Until then, seth_tests.avi must not get worse: at most the measured 15.0 switches per minute of
+// touch plus one (a new false contact near a finger that flickers could add one or two).
+TEST(RealFootage, SethTestsIdSwitchesGetNoWorse) {
+  const Measured m = MeasureClip("ccv-hand/seth_tests.avi");
+  if (!m.skip.empty()) GTEST_SKIP() << m.skip;
+  EXPECT_GT(m.count.MinutesOfTouch(m.fps), 1.0) << "the clip's fingers were not found";
+  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), 16.0);
+}
+
+}  // namespace
+}  // namespace pg
