@@ -6,6 +6,7 @@
 #include "proxygrasp/run/grasp_sweep.h"
 
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
 
@@ -30,6 +31,38 @@ struct BenchArgs {
   std::string clock = "cpu";
 };
 
+// Runs a suite and reports it: the JSON file is opened first (it must be writable before minutes
+// of measuring), then the report is printed as text and written as JSON. `name` prefixes messages.
+template <typename Report>
+int RunAndReport(const std::string& name, const std::string& jsonPath,
+                 const std::function<Result<Report>()>& run, std::string (*format)(const Report&),
+                 std::string (*toJson)(const Report&)) {
+  std::ofstream json;
+  if (!jsonPath.empty()) {
+    json.open(jsonPath);
+    if (!json) {
+      std::cerr << name << ": --json " << jsonPath << ": cannot write the file\n";
+      return kExitBadInput;
+    }
+  }
+  Result<Report> report = run();
+  if (!report.ok()) {
+    std::cerr << name << ": " << report.error().Format() << "\n";
+    return kExitBadInput;
+  }
+  std::cout << format(report.value());
+  if (json.is_open()) {
+    json << toJson(report.value());
+    json.close();
+    if (!json) {
+      std::cerr << name << ": --json " << jsonPath << ": writing failed\n";
+      return kExitFailed;
+    }
+    std::cout << "json: " << jsonPath << "\n";
+  }
+  return kExitOk;
+}
+
 int RunGraspCommand(const BenchArgs& args) {
   GraspSweepOptions options;
   options.scenes = args.count;
@@ -50,30 +83,9 @@ int RunGraspCommand(const BenchArgs& args) {
     }
     options.substeps.push_back(static_cast<int>(v));
   }
-  std::ofstream json;
-  if (!args.json.empty()) {
-    json.open(args.json);
-    if (!json) {
-      std::cerr << "proxygrasp bench grasp: --json " << args.json << ": cannot write the file\n";
-      return kExitBadInput;
-    }
-  }
-  Result<GraspSweepReport> report = RunGraspSweep(options);
-  if (!report.ok()) {
-    std::cerr << "proxygrasp bench grasp: " << report.error().Format() << "\n";
-    return kExitBadInput;
-  }
-  std::cout << FormatGraspSweep(report.value());
-  if (json.is_open()) {
-    json << GraspSweepJson(report.value());
-    json.close();
-    if (!json) {
-      std::cerr << "proxygrasp bench grasp: --json " << args.json << ": writing failed\n";
-      return kExitFailed;
-    }
-    std::cout << "json: " << args.json << "\n";
-  }
-  return kExitOk;
+  return RunAndReport<GraspSweepReport>(
+      "proxygrasp bench grasp", args.json, [&options] { return RunGraspSweep(options); },
+      FormatGraspSweep, GraspSweepJson);
 }
 
 int RunBenchCommand(const BenchArgs& args) {
@@ -96,31 +108,9 @@ int RunBenchCommand(const BenchArgs& args) {
     if (!name.empty()) options.scenes.push_back(name);
   }
 
-  // the JSON file must be writable before minutes of measuring
-  std::ofstream json;
-  if (!args.json.empty()) {
-    json.open(args.json);
-    if (!json) {
-      std::cerr << "proxygrasp bench: --json " << args.json << ": cannot write the file\n";
-      return kExitBadInput;
-    }
-  }
-  Result<BenchReport> report = RunBench(options);
-  if (!report.ok()) {
-    std::cerr << "proxygrasp bench: " << report.error().Format() << "\n";
-    return kExitBadInput;
-  }
-  std::cout << FormatBench(report.value());
-  if (json.is_open()) {
-    json << BenchJson(report.value());
-    json.close();
-    if (!json) {
-      std::cerr << "proxygrasp bench: --json " << args.json << ": writing failed\n";
-      return kExitFailed;
-    }
-    std::cout << "json: " << args.json << "\n";
-  }
-  return kExitOk;
+  return RunAndReport<BenchReport>(
+      "proxygrasp bench", args.json, [&options] { return RunBench(options); }, FormatBench,
+      BenchJson);
 }
 
 }  // namespace
