@@ -73,11 +73,13 @@ struct Finger {
 struct HandModel {
   Vec2 palmHalf{4.0, 5.0};
   double palmCorner = 1.8;
-  std::vector<Finger> fingers;  // thumb first
-  std::vector<Vec2> tips;       // fingertip cap centres, from the fingers
-  std::vector<Vec2> mids;       // finger axis midpoints, from the fingers
-  std::vector<double> reaches;  // half axis length plus radius: no finger point is farther from
-                                // its midpoint
+  std::vector<Finger> fingers;    // thumb first
+  std::vector<Vec2> tips;         // fingertip cap centres, from the fingers
+  std::vector<Vec2> mids;         // finger axis midpoints, from the fingers
+  std::vector<Vec2> axes;         // tip - base, from the fingers
+  std::vector<double> axisLen2s;  // squared axis lengths (> 0), from the fingers
+  std::vector<double> reaches;    // half axis length plus radius: no finger point is farther from
+                                  // its midpoint
   double blend = 0.5;  // radius of the fillets where fingers meet the palm and each other, cm
   bool cupped = false;
 };
@@ -91,6 +93,8 @@ HandModel WithTips(HandModel h) {
   for (const Finger& f : h.fingers) {
     h.tips.push_back(FingerTip(f));
     h.mids.push_back(0.5 * (f.base + h.tips.back()));
+    h.axes.push_back(h.tips.back() - f.base);
+    h.axisLen2s.push_back(h.axes.back().squaredNorm());
     h.reaches.push_back(0.5 * (h.tips.back() - f.base).norm() + f.radius);
   }
   return h;
@@ -140,6 +144,15 @@ constexpr double kCupRadius = 5.4;
 constexpr double kCupHalfSpan = 100.0;  // degrees
 constexpr double kCupHalfThickness = 0.75;
 
+// DistanceToSegment(p, a, a + ab) - r with ab's squared length (> 0) given: the same operations in
+// the same order, so the same bits, without the call (a hand pixel evaluates up to five of these)
+inline double FingerDistance(const Vec2& p, const Vec2& a, const Vec2& ab, double len2, double r) {
+  const double ax = p.x() - a.x(), ay = p.y() - a.y();
+  const double t = std::clamp((ax * ab.x() + ay * ab.y()) / len2, 0.0, 1.0);
+  const double dx = p.x() - (a.x() + t * ab.x()), dy = p.y() - (a.y() + t * ab.y());
+  return std::sqrt(dx * dx + dy * dy) - r;
+}
+
 double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
   if (h.cupped) return ArcDistance(p, kCupRadius, kPi, DegToRad(kCupHalfSpan), kCupHalfThickness);
   double d = RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
@@ -152,11 +165,14 @@ double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
     const double m = std::max(h.blend, d);
     const double far = m + h.reaches[i] + 1e-6;
     if (far > 0.0 && (p - h.mids[i]).squaredNorm() >= far * far) {
-      d = RoundUnion(d, m, h.blend);
+      // RoundUnion(d, m, blend) is max(blend, d) - sqrt(u * u) with u = max(blend - d, 0), and
+      // in binary floating point sqrt(u * u) is u exactly (when u * u underflows, u is far below
+      // blend's last bit and both give blend): this is that number without the root
+      if (d < h.blend) d = h.blend - (h.blend - d);
       continue;
     }
     const Finger& f = h.fingers[i];
-    d = RoundUnion(d, CapsuleDistance(p, f.base, h.tips[i], f.radius), h.blend);
+    d = RoundUnion(d, FingerDistance(p, f.base, h.axes[i], h.axisLen2s[i], f.radius), h.blend);
   }
   return d;
 }
@@ -625,7 +641,7 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
     scratch.drawn.emplace_back(uBegin, vBegin, uEnd - uBegin + 1, vEnd - vBegin + 1);
 
     // area coverage from the signed distance in pixels (a one-pixel linear ramp), and the halo;
-    // 8x8 blocks whose centre is far outside (beyond the halo) or deep inside are done at once
+    // blocks whose centre is far outside (beyond the halo) or deep inside are done at once
     const double pressure = std::clamp(s.pressure, 0.0, 1.0);
     const double haloReach = hand && haloWidth > 0.0 ? haloWidth : 0.0;
     // the pose's inverse with its rotation computed once
@@ -647,30 +663,42 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
         hl = std::max(hl, static_cast<float>(glow));
       }
     };
-    constexpr int kBlock = 8;  // px
+    // Within a block of n x n px the distance changes by at most L * 0.71 n px from its centre;
+    // 1.5 n px allows L up to 2.1 (round unions have L <= sqrt(2)) and the local scale changing
+    // across the block. A block far outside or deep inside is done at once; otherwise false, and
+    // an 8 px block is tried again as four 4 px blocks before its pixels are evaluated one by
+    // one, which narrows the bands along the outline where every pixel is evaluated.
+    auto fillBlock = [&](int bu, int bv, int buEnd, int bvEnd, int n) {
+      const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
+      const double cmpp = m_cmPerPixel.at<float>(cv, cu);
+      const double dc = distanceAt(cv, cu);
+      const double reach = 1.5 * n * cmpp;
+      if (dc > reach + haloReach + cmpp) return true;
+      if (dc >= -reach - cmpp) return false;
+      for (int v = bv; v <= bvEnd; ++v) {
+        for (int u = bu; u <= buEnd; ++u) {
+          float& c = contact.at<float>(v, u);
+          c = std::max(c, static_cast<float>(pressure));
+          if (haloReach > 0.0) halo.at<float>(v, u) = 1.0f;
+        }
+      }
+      return true;
+    };
+    constexpr int kBlock = 8, kSubBlock = 4;  // px
     for (int bv = vBegin; bv <= vEnd; bv += kBlock) {
       const int bvEnd = std::min(bv + kBlock - 1, vEnd);
       for (int bu = uBegin; bu <= uEnd; bu += kBlock) {
         const int buEnd = std::min(bu + kBlock - 1, uEnd);
-        const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
-        const double cmpp = m_cmPerPixel.at<float>(cv, cu);
-        const double dc = distanceAt(cv, cu);
-        // within a block the distance changes by at most L * 5.7 px; 12 px allows L up to 2.1
-        // (round unions have L <= sqrt(2)) and the local scale changing across the block
-        const double reach = 1.5 * kBlock * cmpp;
-        if (dc > reach + haloReach + cmpp) continue;
-        if (dc < -reach - cmpp) {
-          for (int v = bv; v <= bvEnd; ++v) {
-            for (int u = bu; u <= buEnd; ++u) {
-              float& c = contact.at<float>(v, u);
-              c = std::max(c, static_cast<float>(pressure));
-              if (haloReach > 0.0) halo.at<float>(v, u) = 1.0f;
-            }
+        if (fillBlock(bu, bv, buEnd, bvEnd, kBlock)) continue;
+        for (int sv = bv; sv <= bvEnd; sv += kSubBlock) {
+          const int svEnd = std::min(sv + kSubBlock - 1, bvEnd);
+          for (int su = bu; su <= buEnd; su += kSubBlock) {
+            const int suEnd = std::min(su + kSubBlock - 1, buEnd);
+            if (fillBlock(su, sv, suEnd, svEnd, kSubBlock)) continue;
+            for (int v = sv; v <= svEnd; ++v)
+              for (int u = su; u <= suEnd; ++u) shade(v, u);
           }
-          continue;
         }
-        for (int v = bv; v <= bvEnd; ++v)
-          for (int u = bu; u <= buEnd; ++u) shade(v, u);
       }
     }
   }
