@@ -177,6 +177,16 @@ double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
   return d;
 }
 
+// The terms of a flat or five-finger hand's distance: 0 the palm, 1.. the fingers. Where every term
+// is at least `blend` each round union in HandDistanceUnscaled is a plain minimum (u = v = 0, and a
+// skipped finger leaves d as it is), so there the distance is the least term, bit for bit, in
+// whatever order the terms are taken.
+double HandTerm(const HandModel& h, int k, const Vec2& p) {
+  if (k == 0) return RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
+  const Finger& f = h.fingers[k - 1];
+  return FingerDistance(p, f.base, h.axes[k - 1], h.axisLen2s[k - 1], f.radius);
+}
+
 bool IsHand(ShapeKind kind) {
   return kind == ShapeKind::kHandFive || kind == ShapeKind::kHandFlat ||
          kind == ShapeKind::kHandCupped;
@@ -436,7 +446,13 @@ double ShapeDistance(const ContactShape& shape, const Vec2& tablePoint) {
 Contour ShapeOutline(const ContactShape& shape) {
   const Contour local = LocalOutline(shape);
   Contour out(2, local.cols());
-  for (int i = 0; i < local.cols(); ++i) out.col(i) = shape.pose.Apply(local.col(i));
+  // Pose2::Apply with its cosine and sine computed once, not per point (a hand's outline has
+  // thousands, and Render bounds every shape with this each frame)
+  const double c = std::cos(shape.pose.angle), s = std::sin(shape.pose.angle);
+  for (int i = 0; i < local.cols(); ++i) {
+    const double x = local(0, i), y = local(1, i);
+    out.col(i) = Vec2(c * x - s * y, s * x + c * y) + shape.pose.pos;
+  }
   return out;
 }
 
@@ -646,13 +662,20 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
     const double haloReach = hand && haloWidth > 0.0 ? haloWidth : 0.0;
     // the pose's inverse with its rotation computed once
     const double cosA = std::cos(s.pose.angle), sinA = std::sin(s.pose.angle);
-    auto distanceAt = [&](int v, int u) {
+    // a hand's model and scale looked up once (LocalDistance's own hand case, without the switch)
+    const HandModel* handModel = hand ? &HandFor(s.kind) : nullptr;
+    const double handScale = std::max(s.scale, 1e-6);
+    auto localAt = [&](int v, int u) {
       const double x = m_tableX.at<float>(v, u) - s.pose.pos.x();
       const double y = m_tableY.at<float>(v, u) - s.pose.pos.y();
-      return LocalDistance(s, &polygon, Vec2(cosA * x + sinA * y, -sinA * x + cosA * y));
+      return Vec2(cosA * x + sinA * y, -sinA * x + cosA * y);
     };
-    auto shade = [&](int v, int u) {
-      const double d = distanceAt(v, u);
+    auto distanceAt = [&](int v, int u) {
+      const Vec2 local = localAt(v, u);
+      if (handModel) return handScale * HandDistanceUnscaled(*handModel, local / handScale);
+      return LocalDistance(s, &polygon, local);
+    };
+    auto shadeAt = [&](int v, int u, double d) {
       const double coverage =
           std::clamp(0.5 - d / m_cmPerPixel.at<float>(v, u), 0.0, 1.0) * pressure;
       float& c = contact.at<float>(v, u);
@@ -662,6 +685,51 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
         float& hl = halo.at<float>(v, u);
         hl = std::max(hl, static_cast<float>(glow));
       }
+    };
+    auto shade = [&](int v, int u) { shadeAt(v, u, distanceAt(v, u)); };
+    // A hand's block outside its fillets (every term at least blend away at every pixel) takes the
+    // least of the terms that can be least there: near a fingertip that is one finger of five.
+    // Terms are 1-Lipschitz, so across the block they change by at most the farthest pixel's
+    // distance from the centre pixel. Returns false where the block is not such a block.
+    const bool handTerms = handModel && !handModel->cupped && handModel->fingers.size() < 8;
+    auto shadeHandBlock = [&](int bu, int bv, int buEnd, int bvEnd) {
+      constexpr int kMaxPixels = 16;
+      if ((buEnd - bu + 1) * (bvEnd - bv + 1) > kMaxPixels) return false;
+      const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
+      const Vec2 centre = localAt(cv, cu) / handScale;
+      Vec2 points[kMaxPixels];
+      double spread2 = 0.0;
+      int n = 0;
+      for (int v = bv; v <= bvEnd; ++v) {
+        for (int u = bu; u <= buEnd; ++u, ++n) {
+          points[n] = localAt(v, u) / handScale;
+          spread2 = std::max(spread2, (points[n] - centre).squaredNorm());
+        }
+      }
+      // 1e-6 cm keeps rounding on the safe side, as in HandDistanceUnscaled
+      const double change = std::sqrt(spread2) + 1e-6;
+      const int count = 1 + static_cast<int>(handModel->fingers.size());
+      double terms[8];
+      double least = kInf;
+      for (int k = 0; k < count; ++k) {
+        terms[k] = HandTerm(*handModel, k, centre);
+        least = std::min(least, terms[k]);
+      }
+      if (least - change < handModel->blend + 1e-6) return false;
+      int active[8], activeCount = 0;
+      for (int k = 0; k < count; ++k) {
+        if (terms[k] - change < least + change) active[activeCount++] = k;
+      }
+      n = 0;
+      for (int v = bv; v <= bvEnd; ++v) {
+        for (int u = bu; u <= buEnd; ++u, ++n) {
+          double d = kInf;
+          for (int i = 0; i < activeCount; ++i)
+            d = std::min(d, HandTerm(*handModel, active[i], points[n]));
+          shadeAt(v, u, handScale * d);
+        }
+      }
+      return true;
     };
     // Within a block of n x n px the distance changes by at most L * 0.71 n px from its centre;
     // 1.5 n px allows L up to 2.1 (round unions have L <= sqrt(2)) and the local scale changing
@@ -695,6 +763,7 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
           for (int su = bu; su <= buEnd; su += kSubBlock) {
             const int suEnd = std::min(su + kSubBlock - 1, buEnd);
             if (fillBlock(su, sv, suEnd, svEnd, kSubBlock)) continue;
+            if (handTerms && shadeHandBlock(su, sv, suEnd, svEnd)) continue;
             for (int v = sv; v <= svEnd; ++v)
               for (int u = su; u <= suEnd; ++u) shade(v, u);
           }
