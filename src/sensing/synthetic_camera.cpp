@@ -3,13 +3,20 @@
 #include "proxygrasp/core/params.h"
 #include "proxygrasp/core/units.h"
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <mutex>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
 
 namespace pg {
 
@@ -66,11 +73,13 @@ struct Finger {
 struct HandModel {
   Vec2 palmHalf{4.0, 5.0};
   double palmCorner = 1.8;
-  std::vector<Finger> fingers;  // thumb first
-  std::vector<Vec2> tips;       // fingertip cap centres, from the fingers
-  std::vector<Vec2> mids;       // finger axis midpoints, from the fingers
-  std::vector<double> reaches;  // half axis length plus radius: no finger point is farther from
-                                // its midpoint
+  std::vector<Finger> fingers;    // thumb first
+  std::vector<Vec2> tips;         // fingertip cap centres, from the fingers
+  std::vector<Vec2> mids;         // finger axis midpoints, from the fingers
+  std::vector<Vec2> axes;         // tip - base, from the fingers
+  std::vector<double> axisLen2s;  // squared axis lengths (> 0), from the fingers
+  std::vector<double> reaches;    // half axis length plus radius: no finger point is farther from
+                                  // its midpoint
   double blend = 0.5;  // radius of the fillets where fingers meet the palm and each other, cm
   bool cupped = false;
 };
@@ -84,6 +93,8 @@ HandModel WithTips(HandModel h) {
   for (const Finger& f : h.fingers) {
     h.tips.push_back(FingerTip(f));
     h.mids.push_back(0.5 * (f.base + h.tips.back()));
+    h.axes.push_back(h.tips.back() - f.base);
+    h.axisLen2s.push_back(h.axes.back().squaredNorm());
     h.reaches.push_back(0.5 * (h.tips.back() - f.base).norm() + f.radius);
   }
   return h;
@@ -133,6 +144,15 @@ constexpr double kCupRadius = 5.4;
 constexpr double kCupHalfSpan = 100.0;  // degrees
 constexpr double kCupHalfThickness = 0.75;
 
+// DistanceToSegment(p, a, a + ab) - r with ab's squared length (> 0) given: the same operations in
+// the same order, so the same bits, without the call (a hand pixel evaluates up to five of these)
+inline double FingerDistance(const Vec2& p, const Vec2& a, const Vec2& ab, double len2, double r) {
+  const double ax = p.x() - a.x(), ay = p.y() - a.y();
+  const double t = std::clamp((ax * ab.x() + ay * ab.y()) / len2, 0.0, 1.0);
+  const double dx = p.x() - (a.x() + t * ab.x()), dy = p.y() - (a.y() + t * ab.y());
+  return std::sqrt(dx * dx + dy * dy) - r;
+}
+
 double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
   if (h.cupped) return ArcDistance(p, kCupRadius, kPi, DegToRad(kCupHalfSpan), kCupHalfThickness);
   double d = RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
@@ -145,13 +165,26 @@ double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
     const double m = std::max(h.blend, d);
     const double far = m + h.reaches[i] + 1e-6;
     if (far > 0.0 && (p - h.mids[i]).squaredNorm() >= far * far) {
-      d = RoundUnion(d, m, h.blend);
+      // RoundUnion(d, m, blend) is max(blend, d) - sqrt(u * u) with u = max(blend - d, 0), and
+      // in binary floating point sqrt(u * u) is u exactly (when u * u underflows, u is far below
+      // blend's last bit and both give blend): this is that number without the root
+      if (d < h.blend) d = h.blend - (h.blend - d);
       continue;
     }
     const Finger& f = h.fingers[i];
-    d = RoundUnion(d, CapsuleDistance(p, f.base, h.tips[i], f.radius), h.blend);
+    d = RoundUnion(d, FingerDistance(p, f.base, h.axes[i], h.axisLen2s[i], f.radius), h.blend);
   }
   return d;
+}
+
+// The terms of a flat or five-finger hand's distance: 0 the palm, 1.. the fingers. Where every term
+// is at least `blend` each round union in HandDistanceUnscaled is a plain minimum (u = v = 0, and a
+// skipped finger leaves d as it is), so there the distance is the least term, bit for bit, in
+// whatever order the terms are taken.
+double HandTerm(const HandModel& h, int k, const Vec2& p) {
+  if (k == 0) return RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
+  const Finger& f = h.fingers[k - 1];
+  return FingerDistance(p, f.base, h.axes[k - 1], h.axisLen2s[k - 1], f.radius);
 }
 
 bool IsHand(ShapeKind kind) {
@@ -314,6 +347,91 @@ Contour LocalOutline(const ContactShape& s) {
   return Contour(2, 0);
 }
 
+// ---- composing a frame: the illumination model on spans of a row ----
+
+// A new frame's memory is usually fresh from the kernel: touching it faults once per 4 KB page, and
+// on a virtual machine those traps took a third of a two-hand frame. One call maps them all. Where
+// the call is missing or fails the pages fault as before; the contents never change.
+void PrefaultPages(const cv::Mat& image) {
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+  static const uintptr_t kPage = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+  const uintptr_t data = reinterpret_cast<uintptr_t>(image.data);
+  // whole pages inside the image only: madvise takes page-aligned ranges
+  const uintptr_t begin = (data + kPage - 1) / kPage * kPage;
+  const uintptr_t end = (data + image.total() * image.elemSize()) / kPage * kPage;
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+#else
+  (void)image;
+#endif
+}
+
+// one row of Compose's inputs and output
+struct ComposeRow {
+  const float* gain;           // vignetting, 0..1
+  const float* background;     // grey
+  const float* litBackground;  // gain * background, grey
+  const float* contact;        // coverage, 0..1
+  const float* halo;           // 0..1
+  const float* noise;          // standard normal samples, nullptr for none
+  double sigma;                // noise deviation, grey
+  float contactLevel, haloLevel;
+  uint8_t* out;
+};
+
+// pixels [begin, end) of a row: background, contact and halo, all dimmed by vignetting, then sensor
+// noise. Without shapes (no contact and no halo there) the level is the background exactly, so the
+// precomputed gain * background gives the same bits. Sixteen pixels at a time where the CPU has
+// 128-bit vectors with doubles: the same float and double operations in the same order, and the
+// same rounding (to nearest even, as cvRound) and saturation as the one-pixel loop.
+template <bool kShapes>
+void ComposeSpan(const ComposeRow& r, int begin, int end) {
+  int u = begin;
+#if CV_SIMD128_64F
+  const cv::v_float32x4 contactLevel = cv::v_setall_f32(r.contactLevel);
+  const cv::v_float32x4 haloLevel = cv::v_setall_f32(r.haloLevel);
+  const cv::v_float32x4 one = cv::v_setall_f32(1.0f);
+  const cv::v_float64x2 sigma = cv::v_setall_f64(r.sigma);
+  for (; u + 16 <= end; u += 16) {
+    cv::v_int32x4 rounded[4];
+    for (int k = 0; k < 4; ++k) {
+      const int i = u + 4 * k;
+      cv::v_float32x4 lit;
+      if constexpr (kShapes) {
+        const cv::v_float32x4 b = cv::v_load(r.background + i);
+        const cv::v_float32x4 c = cv::v_load(r.contact + i);
+        const cv::v_float32x4 level =
+            b + (contactLevel - b) * c + haloLevel * cv::v_load(r.halo + i) * (one - c);
+        lit = cv::v_load(r.gain + i) * level;
+      } else {
+        lit = cv::v_load(r.litBackground + i);
+      }
+      cv::v_float64x2 low = cv::v_cvt_f64(lit), high = cv::v_cvt_f64_high(lit);
+      if (r.noise) {
+        const cv::v_float32x4 n = cv::v_load(r.noise + i);
+        low = low + sigma * cv::v_cvt_f64(n);
+        high = high + sigma * cv::v_cvt_f64_high(n);
+      }
+      rounded[k] = cv::v_round(low, high);
+    }
+    cv::v_store(r.out + u, cv::v_pack_u(cv::v_pack(rounded[0], rounded[1]),
+                                        cv::v_pack(rounded[2], rounded[3])));
+  }
+#endif
+  for (; u < end; ++u) {
+    float lit;
+    if constexpr (kShapes) {
+      const float b = r.background[u], c = r.contact[u];
+      const float level = b + (r.contactLevel - b) * c + r.haloLevel * r.halo[u] * (1.0f - c);
+      lit = r.gain[u] * level;
+    } else {
+      lit = r.litBackground[u];
+    }
+    double value = lit;
+    if (r.noise) value += r.sigma * r.noise[u];
+    r.out[u] = cv::saturate_cast<uint8_t>(value);
+  }
+}
+
 }  // namespace
 
 double ShapeDistance(const ContactShape& shape, const Vec2& tablePoint) {
@@ -328,7 +446,13 @@ double ShapeDistance(const ContactShape& shape, const Vec2& tablePoint) {
 Contour ShapeOutline(const ContactShape& shape) {
   const Contour local = LocalOutline(shape);
   Contour out(2, local.cols());
-  for (int i = 0; i < local.cols(); ++i) out.col(i) = shape.pose.Apply(local.col(i));
+  // Pose2::Apply with its cosine and sine computed once, not per point (a hand's outline has
+  // thousands, and Render bounds every shape with this each frame)
+  const double c = std::cos(shape.pose.angle), s = std::sin(shape.pose.angle);
+  for (int i = 0; i < local.cols(); ++i) {
+    const double x = local(0, i), y = local(1, i);
+    out.col(i) = Vec2(c * x - s * y, s * x + c * y) + shape.pose.pos;
+  }
   return out;
 }
 
@@ -402,6 +526,7 @@ void SyntheticCamera::BuildIllumination() {
   // fresh buffers: a copied camera shares its maps with the original until they are rebuilt
   m_gain = cv::Mat(h, w, CV_32F);
   m_background = cv::Mat(h, w, CV_32F);
+  m_litBackground = cv::Mat(h, w, CV_32F);
   const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
   const double rMax2 = cx * cx + cy * cy;
   for (int v = 0; v < h; ++v) {
@@ -410,6 +535,8 @@ void SyntheticCamera::BuildIllumination() {
       m_gain.at<float>(v, u) = static_cast<float>(1.0 - m_params.vignetting * r2);
       m_background.at<float>(v, u) = static_cast<float>(
           m_params.background + m_params.gradient * (u / std::max(w - 1.0, 1.0) - 0.5));
+      // what Compose's illumination gives where there is neither contact nor halo, bit for bit
+      m_litBackground.at<float>(v, u) = m_gain.at<float>(v, u) * m_background.at<float>(v, u);
     }
   }
 }
@@ -443,28 +570,40 @@ std::vector<std::string> SyntheticCamera::FixedKeysChanged(
   return RestartKeysChanged("camera", m_params, params);
 }
 
-cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo) {
+cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo,
+                                 std::span<const cv::Rect> drawn) {
   const int w = m_params.width, h = m_params.height;
   cv::Mat out(h, w, CV_8UC1);
-  const float contactLevel = static_cast<float>(m_params.contactLevel);
-  const float haloLevel = static_cast<float>(m_params.haloLevel);
-  const double noise = m_params.noise;
+  PrefaultPages(out);
+  ComposeRow row;
+  row.contactLevel = static_cast<float>(m_params.contactLevel);
+  row.haloLevel = static_cast<float>(m_params.haloLevel);
+  row.sigma = m_params.noise;
+  std::vector<std::pair<int, int>> spans;
   for (int v = 0; v < h; ++v) {
-    const float* c = contact.ptr<float>(v);
-    const float* hl = halo.ptr<float>(v);
-    const float* g = m_gain.ptr<float>(v);
-    const float* b = m_background.ptr<float>(v);
-    uint8_t* o = out.ptr<uint8_t>(v);
+    row.gain = m_gain.ptr<float>(v);
+    row.background = m_background.ptr<float>(v);
+    row.litBackground = m_litBackground.ptr<float>(v);
+    row.contact = contact.ptr<float>(v);
+    row.halo = halo.ptr<float>(v);
+    row.out = out.ptr<uint8_t>(v);
     // each row takes its noise from a random place in the bank
-    const float* bankRow =
-        noise > 0.0 ? m_noiseBank.data() + m_rng.NextU64() % (m_noiseBank.size() - w) : nullptr;
-    for (int u = 0; u < w; ++u) {
-      // illumination: background, contact and halo, all dimmed by vignetting, then sensor noise
-      const float level = b[u] + (contactLevel - b[u]) * c[u] + haloLevel * hl[u] * (1.0f - c[u]);
-      double value = g[u] * level;
-      if (noise > 0.0) value += noise * bankRow[u];
-      o[u] = cv::saturate_cast<uint8_t>(value);
+    row.noise =
+        row.sigma > 0.0 ? m_noiseBank.data() + m_rng.NextU64() % (m_noiseBank.size() - w) : nullptr;
+    // the columns shapes drew into on this row, in order; the rest shows the clear table
+    spans.clear();
+    for (const cv::Rect& r : drawn) {
+      if (v >= r.y && v < r.y + r.height) spans.emplace_back(r.x, r.x + r.width);
     }
+    std::sort(spans.begin(), spans.end());
+    int u = 0;
+    for (const auto& [begin, end] : spans) {
+      if (end <= u) continue;
+      ComposeSpan<false>(row, u, std::max(begin, u));
+      ComposeSpan<true>(row, std::max(begin, u), end);
+      u = end;
+    }
+    ComposeSpan<false>(row, u, w);
   }
   return out;
 }
@@ -518,18 +657,25 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
     scratch.drawn.emplace_back(uBegin, vBegin, uEnd - uBegin + 1, vEnd - vBegin + 1);
 
     // area coverage from the signed distance in pixels (a one-pixel linear ramp), and the halo;
-    // 8x8 blocks whose centre is far outside (beyond the halo) or deep inside are done at once
+    // blocks whose centre is far outside (beyond the halo) or deep inside are done at once
     const double pressure = std::clamp(s.pressure, 0.0, 1.0);
     const double haloReach = hand && haloWidth > 0.0 ? haloWidth : 0.0;
     // the pose's inverse with its rotation computed once
     const double cosA = std::cos(s.pose.angle), sinA = std::sin(s.pose.angle);
-    auto distanceAt = [&](int v, int u) {
+    // a hand's model and scale looked up once (LocalDistance's own hand case, without the switch)
+    const HandModel* handModel = hand ? &HandFor(s.kind) : nullptr;
+    const double handScale = std::max(s.scale, 1e-6);
+    auto localAt = [&](int v, int u) {
       const double x = m_tableX.at<float>(v, u) - s.pose.pos.x();
       const double y = m_tableY.at<float>(v, u) - s.pose.pos.y();
-      return LocalDistance(s, &polygon, Vec2(cosA * x + sinA * y, -sinA * x + cosA * y));
+      return Vec2(cosA * x + sinA * y, -sinA * x + cosA * y);
     };
-    auto shade = [&](int v, int u) {
-      const double d = distanceAt(v, u);
+    auto distanceAt = [&](int v, int u) {
+      const Vec2 local = localAt(v, u);
+      if (handModel) return handScale * HandDistanceUnscaled(*handModel, local / handScale);
+      return LocalDistance(s, &polygon, local);
+    };
+    auto shadeAt = [&](int v, int u, double d) {
       const double coverage =
           std::clamp(0.5 - d / m_cmPerPixel.at<float>(v, u), 0.0, 1.0) * pressure;
       float& c = contact.at<float>(v, u);
@@ -540,34 +686,92 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
         hl = std::max(hl, static_cast<float>(glow));
       }
     };
-    constexpr int kBlock = 8;  // px
+    auto shade = [&](int v, int u) { shadeAt(v, u, distanceAt(v, u)); };
+    // A hand's block outside its fillets (every term at least blend away at every pixel) takes the
+    // least of the terms that can be least there: near a fingertip that is one finger of five.
+    // Terms are 1-Lipschitz, so across the block they change by at most the farthest pixel's
+    // distance from the centre pixel. Returns false where the block is not such a block.
+    const bool handTerms = handModel && !handModel->cupped && handModel->fingers.size() < 8;
+    auto shadeHandBlock = [&](int bu, int bv, int buEnd, int bvEnd) {
+      constexpr int kMaxPixels = 16;
+      if ((buEnd - bu + 1) * (bvEnd - bv + 1) > kMaxPixels) return false;
+      const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
+      const Vec2 centre = localAt(cv, cu) / handScale;
+      Vec2 points[kMaxPixels];
+      double spread2 = 0.0;
+      int n = 0;
+      for (int v = bv; v <= bvEnd; ++v) {
+        for (int u = bu; u <= buEnd; ++u, ++n) {
+          points[n] = localAt(v, u) / handScale;
+          spread2 = std::max(spread2, (points[n] - centre).squaredNorm());
+        }
+      }
+      // 1e-6 cm keeps rounding on the safe side, as in HandDistanceUnscaled
+      const double change = std::sqrt(spread2) + 1e-6;
+      const int count = 1 + static_cast<int>(handModel->fingers.size());
+      double terms[8];
+      double least = kInf;
+      for (int k = 0; k < count; ++k) {
+        terms[k] = HandTerm(*handModel, k, centre);
+        least = std::min(least, terms[k]);
+      }
+      if (least - change < handModel->blend + 1e-6) return false;
+      int active[8], activeCount = 0;
+      for (int k = 0; k < count; ++k) {
+        if (terms[k] - change < least + change) active[activeCount++] = k;
+      }
+      n = 0;
+      for (int v = bv; v <= bvEnd; ++v) {
+        for (int u = bu; u <= buEnd; ++u, ++n) {
+          double d = kInf;
+          for (int i = 0; i < activeCount; ++i)
+            d = std::min(d, HandTerm(*handModel, active[i], points[n]));
+          shadeAt(v, u, handScale * d);
+        }
+      }
+      return true;
+    };
+    // Within a block of n x n px the distance changes by at most L * 0.71 n px from its centre;
+    // 1.5 n px allows L up to 2.1 (round unions have L <= sqrt(2)) and the local scale changing
+    // across the block. A block far outside or deep inside is done at once; otherwise false, and
+    // an 8 px block is tried again as four 4 px blocks before its pixels are evaluated one by
+    // one, which narrows the bands along the outline where every pixel is evaluated.
+    auto fillBlock = [&](int bu, int bv, int buEnd, int bvEnd, int n) {
+      const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
+      const double cmpp = m_cmPerPixel.at<float>(cv, cu);
+      const double dc = distanceAt(cv, cu);
+      const double reach = 1.5 * n * cmpp;
+      if (dc > reach + haloReach + cmpp) return true;
+      if (dc >= -reach - cmpp) return false;
+      for (int v = bv; v <= bvEnd; ++v) {
+        for (int u = bu; u <= buEnd; ++u) {
+          float& c = contact.at<float>(v, u);
+          c = std::max(c, static_cast<float>(pressure));
+          if (haloReach > 0.0) halo.at<float>(v, u) = 1.0f;
+        }
+      }
+      return true;
+    };
+    constexpr int kBlock = 8, kSubBlock = 4;  // px
     for (int bv = vBegin; bv <= vEnd; bv += kBlock) {
       const int bvEnd = std::min(bv + kBlock - 1, vEnd);
       for (int bu = uBegin; bu <= uEnd; bu += kBlock) {
         const int buEnd = std::min(bu + kBlock - 1, uEnd);
-        const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
-        const double cmpp = m_cmPerPixel.at<float>(cv, cu);
-        const double dc = distanceAt(cv, cu);
-        // within a block the distance changes by at most L * 5.7 px; 12 px allows L up to 2.1
-        // (round unions have L <= sqrt(2)) and the local scale changing across the block
-        const double reach = 1.5 * kBlock * cmpp;
-        if (dc > reach + haloReach + cmpp) continue;
-        if (dc < -reach - cmpp) {
-          for (int v = bv; v <= bvEnd; ++v) {
-            for (int u = bu; u <= buEnd; ++u) {
-              float& c = contact.at<float>(v, u);
-              c = std::max(c, static_cast<float>(pressure));
-              if (haloReach > 0.0) halo.at<float>(v, u) = 1.0f;
-            }
+        if (fillBlock(bu, bv, buEnd, bvEnd, kBlock)) continue;
+        for (int sv = bv; sv <= bvEnd; sv += kSubBlock) {
+          const int svEnd = std::min(sv + kSubBlock - 1, bvEnd);
+          for (int su = bu; su <= buEnd; su += kSubBlock) {
+            const int suEnd = std::min(su + kSubBlock - 1, buEnd);
+            if (fillBlock(su, sv, suEnd, svEnd, kSubBlock)) continue;
+            if (handTerms && shadeHandBlock(su, sv, suEnd, svEnd)) continue;
+            for (int v = sv; v <= svEnd; ++v)
+              for (int u = su; u <= suEnd; ++u) shade(v, u);
           }
-          continue;
         }
-        for (int v = bv; v <= bvEnd; ++v)
-          for (int u = bu; u <= buEnd; ++u) shade(v, u);
       }
     }
   }
-  return Compose(contact, halo);
+  return Compose(contact, halo, scratch.drawn);
 }
 
 std::vector<Contour> SyntheticCamera::TrueOutlines(std::span<const ContactShape> shapes) const {
@@ -609,7 +813,8 @@ cv::Mat SyntheticCamera::RenderTableImage(const cv::Mat& tableImage) {
     cv::remap(reflectance, contact, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
               cv::Scalar(0));
   }
-  return Compose(contact, cv::Mat::zeros(h, w, CV_32F));
+  const cv::Rect all(0, 0, w, h);
+  return Compose(contact, cv::Mat::zeros(h, w, CV_32F), {&all, 1});
 }
 
 cv::Mat SyntheticCamera::Background() const {

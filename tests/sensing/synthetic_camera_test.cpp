@@ -253,19 +253,22 @@ TEST(SyntheticCamera, RenderTableImageUsesTheSameModel) {
 }
 
 TEST(SyntheticCamera, EveryPixelFollowsTheImageModel) {
-  // the renderer skips blocks far from a shape; a pixel-by-pixel evaluation of the documented
-  // model must give the same image: B + (contact - B) c + halo h (1 - c), with the coverage
-  // c = clamp(0.5 - d / s) and the halo h = 1 - smoothstep(d / halo_width) outside hands
+  // the renderer skips blocks far from a shape, takes a hand's distance from fewer fingers where
+  // it can, and composes the clear table from a precomputed image; a pixel-by-pixel evaluation of
+  // the documented model must give the same image: g (B + (contact - B) c + halo h (1 - c)), with
+  // the coverage c = clamp(0.5 - d / s), the halo h = 1 - smoothstep(d / halo_width) outside
+  // hands, the vignetting gain g = 1 - vignetting r^2 (r from the centre, 1 at the corners) and
+  // the background B = background + gradient (u / (width - 1) - 0.5)
   SyntheticCameraParams p;
   p.noise = 0.0;
-  p.vignetting = 0.0;
-  p.gradient = 0.0;
   p.perspective = 0.05;
   SyntheticCamera camera(p, TableParams{});
-  const ContactShape shapes[] = {Shape(ShapeKind::kHandFive, {20, 20}, 0.3),
-                                 Shape(ShapeKind::kCircle, {45, 30}),
-                                 Shape(ShapeKind::kHandCupped, {45, 12}, 1.0)};
+  // the flat hand runs off the far edge of the table, past the circle
+  const ContactShape shapes[] = {
+      Shape(ShapeKind::kHandFive, {20, 20}, 0.3), Shape(ShapeKind::kCircle, {45, 30}),
+      Shape(ShapeKind::kHandCupped, {45, 12}, 1.0), Shape(ShapeKind::kHandFlat, {38, 36}, -0.4)};
   const cv::Mat frame = camera.Render(shapes);
+  const double cx = (frame.cols - 1) / 2.0, cy = (frame.rows - 1) / 2.0;
   int worst = 0;
   for (int v = 0; v < frame.rows; ++v) {
     for (int u = 0; u < frame.cols; ++u) {
@@ -278,8 +281,11 @@ TEST(SyntheticCamera, EveryPixelFollowsTheImageModel) {
         if (shape.kind != ShapeKind::kCircle)
           h = std::max(h, d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d / p.haloWidth));
       }
+      const double gain =
+          1.0 - p.vignetting * ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / (cx * cx + cy * cy);
+      const double background = p.background + p.gradient * (u / (frame.cols - 1.0) - 0.5);
       const double expected =
-          p.background + (p.contactLevel - p.background) * c + p.haloLevel * h * (1.0 - c);
+          gain * (background + (p.contactLevel - background) * c + p.haloLevel * h * (1.0 - c));
       worst = std::max(worst, static_cast<int>(std::abs(frame.at<uint8_t>(v, u) - expected) + 0.5));
     }
   }

@@ -78,8 +78,9 @@ class SyntheticCamera {
   void BuildIllumination();
   // fills the noise bank from the generator
   void DrawNoiseBank();
-  // composes contact coverage c and halo h (both CV_32F, 0..1) into a noisy 8-bit frame
-  cv::Mat Compose(const cv::Mat& contact, const cv::Mat& halo);
+  // composes contact coverage c and halo h (both CV_32F, 0..1) into a noisy 8-bit frame; c and h
+  // are zero outside the `drawn` rectangles
+  cv::Mat Compose(const cv::Mat& contact, const cv::Mat& halo, std::span<const cv::Rect> drawn);
 
   SyntheticCameraParams m_params;
   TableParams m_table;
@@ -89,6 +90,7 @@ class SyntheticCamera {
   cv::Mat m_cmPerPixel;            // CV_32F: local pixel size, cm
   cv::Mat m_gain;                  // CV_32F: vignetting gain, 0..1
   cv::Mat m_background;            // CV_32F: background level before vignetting, grey
+  cv::Mat m_litBackground;         // CV_32F: m_gain * m_background, the noiseless clear table
   std::vector<float> m_noiseBank;  // standard normal samples, drawn once from the seed
 
   // Render's coverage and halo images (CV_32F), kept between frames: only the rectangles the last
