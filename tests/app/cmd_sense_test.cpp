@@ -1,4 +1,5 @@
 #include "run_command.h"
+#include "udp_port.h"
 
 #include "proxygrasp/sensing/calibration.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
@@ -32,6 +33,7 @@ extern char** environ;
 namespace pg {
 namespace {
 
+using test::FreePort;
 using test::RunProxygrasp;
 using ::testing::HasSubstr;
 using ::testing::Not;
@@ -239,19 +241,6 @@ std::vector<std::string> FrameLines(const std::string& output) {
   for (const std::string& line : Lines(output))
     if (line.rfind("{\"frame\": ", 0) == 0) frames.push_back(line);
   return frames;
-}
-
-// a UDP port nobody listens on right now
-int FreePort() {
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  close(fd);
-  return ntohs(a.sin_port);
 }
 
 // true when something is bound to the UDP port on the loopback address

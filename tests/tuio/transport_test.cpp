@@ -1,5 +1,7 @@
 #include "proxygrasp/tuio/transport.h"
 
+#include "udp_port.h"
+
 #include "proxygrasp/core/units.h"
 
 #include <gtest/gtest.h>
@@ -24,6 +26,8 @@ extern char** environ;
 
 namespace pg {
 namespace {
+
+using test::FreePort;
 
 // what a contour may move on its way through TUIO and back (the acceptance figure)
 constexpr double kRoundTripTol = 0.05;  // cm
@@ -111,19 +115,6 @@ std::string Padded(const std::string& s) {
 std::string Int32(int32_t v) {
   const uint32_t be = htonl(static_cast<uint32_t>(v));
   return std::string(reinterpret_cast<const char*>(&be), 4);
-}
-
-// a UDP port nobody listens on right now
-int FreePort() {
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  close(fd);
-  return ntohs(a.sin_port);
 }
 
 bool HaveTool(const char* name) {
