@@ -68,6 +68,25 @@ MaybeError Loader::BuildScript(const toml::table& root, Level& level) {
   return std::nullopt;
 }
 
+namespace {
+
+// A file a level names (`what` says which, for the message): an absolute path, or one relative to
+// the level file; an Error at the key when it is not a file.
+Result<std::string> ResolveLevelFile(const SourceLoc& at, const std::string& name,
+                                     const std::string& what) {
+  const fs::path given(name);
+  const std::string path =
+      given.is_absolute() ? given.string()
+                          : (fs::path(at.file).parent_path() / given).lexically_normal().string();
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    return MakeError(at, what + " '" + name + "' not found (looked for " + path + ")");
+  }
+  return path;
+}
+
+}  // namespace
+
 // [script] recording: a video file, relative to the level file that names it, that exists and
 // holds frames; it replaces the contacts
 MaybeError Loader::ReadRecording(const toml::table& t, Level& level) {
@@ -80,15 +99,9 @@ MaybeError Loader::ReadRecording(const toml::table& t, Level& level) {
   if (t.contains("contacts")) {
     return MakeError(at, "a recording replaces the script's contacts: give one or the other");
   }
-  const fs::path name(script.recording);
-  const std::string path =
-      name.is_absolute() ? name.string()
-                         : (fs::path(at.file).parent_path() / name).lexically_normal().string();
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    return MakeError(at,
-                     "recording '" + script.recording + "' not found (looked for " + path + ")");
-  }
+  Result<std::string> resolved = ResolveLevelFile(at, script.recording, "recording");
+  if (!resolved.ok()) return resolved.error();
+  const std::string path = resolved.value();
   // count the frames: the default duration, and a check that the file is a readable video
   Result<int64_t> counted = CountRecordingFrames(path);
   if (!counted.ok()) {
@@ -116,13 +129,9 @@ MaybeError Loader::ReadTuio(const toml::table& t, Level& level) {
     return MakeError(at, "a TUIO stream replaces the script's contacts: give one or the other");
   if (!script.recording.empty())
     return MakeError(at, "a TUIO stream and a video recording are both inputs: give one");
-  const fs::path name(script.tuio);
-  const std::string path =
-      name.is_absolute() ? name.string()
-                         : (fs::path(at.file).parent_path() / name).lexically_normal().string();
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    return MakeError(at, "TUIO stream '" + script.tuio + "' not found (looked for " + path + ")");
+  Result<std::string> resolved = ResolveLevelFile(at, script.tuio, "TUIO stream");
+  if (!resolved.ok()) return resolved.error();
+  const std::string path = resolved.value();
   Result<std::vector<OscBundle>> read = ReadTouchlibXml(path);
   if (!read.ok())
     return MakeError(at, "TUIO stream '" + script.tuio + "': " + read.error().Format());
