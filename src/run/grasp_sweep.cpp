@@ -113,22 +113,35 @@ double ReachAlong(const CrossSection& slice, const Vec2& u) {
   return best;
 }
 
-// half the length of the face the direction u meets (infinity for a circle)
-double FaceHalfLength(const CrossSection& slice, const Vec2& u) {
-  if (slice.circle) return kInfinity;
+// An edge of a counter-clockwise polygon: its start, unit direction, length and outward normal.
+struct Edge {
+  Vec2 start = Vec2::Zero();
+  Vec2 dir = Vec2::Zero();
+  double length = 0.0;
+  Vec2 normal = Vec2::Zero();
+};
+
+// the edge of a polygon slice whose outward normal points most along the unit direction u: the
+// face a fingertip pressing along -u meets
+Edge FacingEdge(const CrossSection& slice, const Vec2& u) {
+  Edge best;
+  double bestAlong = -kInfinity;
   const Contour& c = slice.outline;
   const int n = static_cast<int>(c.cols());
-  double best = -kInfinity, half = 0.0;
   for (int i = 0; i < n; ++i) {
-    const Vec2 a = c.col(i), b = c.col((i + 1) % n);
-    const Vec2 e = b - a;
+    const Vec2 a = c.col(i), e = Vec2(c.col((i + 1) % n)) - a;
     const Vec2 normal = Vec2(e.y(), -e.x()).normalized();
-    if (normal.dot(u) > best) {
-      best = normal.dot(u);
-      half = 0.5 * e.norm();
+    if (normal.dot(u) > bestAlong) {
+      bestAlong = normal.dot(u);
+      best = {a, e.normalized(), e.norm(), normal};
     }
   }
-  return half;
+  return best;
+}
+
+// half the length of the face the direction u meets (infinity for a circle)
+double FaceHalfLength(const CrossSection& slice, const Vec2& u) {
+  return slice.circle ? kInfinity : 0.5 * FacingEdge(slice, u).length;
 }
 
 std::vector<FingerPath> Paths(const GraspScene& s) {
@@ -186,25 +199,7 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
   // the face the fingertip presses: for a polygon the edge whose outward normal opposes `inward`
-  Vec2 faceA = Vec2::Zero(), faceDir = Vec2::Zero(), faceNormal = Vec2::Zero();
-  double faceLength = 0.0;
-  if (!slice.circle) {
-    const Contour& c = slice.outline;
-    const int n = static_cast<int>(c.cols());
-    double best = kInfinity;
-    for (int i = 0; i < n; ++i) {
-      const Vec2 a = c.col(i), b = c.col((i + 1) % n);
-      const Vec2 e = b - a;
-      const Vec2 normal = Vec2(e.y(), -e.x()).normalized();
-      if (normal.dot(inward) < best) {
-        best = normal.dot(inward);
-        faceA = a;
-        faceLength = e.norm();
-        faceDir = e / faceLength;
-        faceNormal = normal;
-      }
-    }
-  }
+  const Edge face = slice.circle ? Edge{} : FacingEdge(slice, -inward);
   // the contour has about 2 pi R / spacing points; where they fall along it varies, so average
   // the sum over phases of the sampling
   const int points = std::max(3, static_cast<int>(std::lround(2.0 * kPi * radius / spacing)));
@@ -222,10 +217,10 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
         depth = slice.radius - dist;
         push = -q / dist;
       } else {
-        const double along = (q - faceA).dot(faceDir);
-        if (along < 0.0 || along > faceLength) continue;  // beyond the face's ends
-        depth = -(q - faceA).dot(faceNormal);
-        push = -faceNormal;
+        const double along = (q - face.start).dot(face.dir);
+        if (along < 0.0 || along > face.length) continue;  // beyond the face's ends
+        depth = -(q - face.start).dot(face.normal);
+        push = -face.normal;
       }
       if (depth + r <= 0.0) continue;
       total += push * (k * std::min(depth + r, dMax));
@@ -453,7 +448,6 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
       // until the trailing side lets go
       const double friction = muP * std::max(p.normalForce, along);
       const double push = pushCapacity(u.dot(axis) >= 0 ? axis : Vec2(-axis));
-      p.capacity = std::min(across > 0 ? friction : kInfinity, along > 0 ? push : kInfinity);
       p.margin = std::min(across > 0 ? friction / across : kInfinity,
                           along > 0 ? push / along : kInfinity);
       p.capacity = p.margin * p.requirement;
