@@ -143,7 +143,6 @@ void LayeredWorld::Impl::StepLayers() {
   const float h = static_cast<float>(dt);
   pool->Run(LayerCount(), [&](int k) {
     Layer& layer = *layers[k];
-    layer.records.clear();
     layer.world->Step(h, params.velocityIterations, params.positionIterations);
   });
 }

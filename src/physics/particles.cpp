@@ -102,19 +102,20 @@ void LayeredWorld::Impl::DestroyBodies(ParticleData& p) {
   p.bodies.clear();
 }
 
-void LayeredWorld::Impl::StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const {
+b2Fixture* LayeredWorld::Impl::StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const {
   // The plain control would move the body to its aim in one substep, up to 0.5 cm into an object
   // at full grip (d_max); a contact that is not in the solver yet cannot stop it. Cast the circle
   // along its path against the objects it has contacts with (its fat bounding box overlaps
   // theirs) and stop it where it first meets one: the next substep finds the contact and presses.
   const Vec2 path = *aim - x;
-  if (path.squaredNorm() == 0.0) return;
+  if (path.squaredNorm() == 0.0) return nullptr;
   double lambda = 1.0;
+  b2Fixture* hit = nullptr;
   const b2Fixture* particle = body->GetFixtureList();
   for (b2ContactEdge* e = body->GetContactList(); e != nullptr; e = e->next) {
-    const b2Contact* contact = e->contact;
+    b2Contact* contact = e->contact;
     const bool particleIsA = contact->GetFixtureA() == particle;
-    const b2Fixture* other = particleIsA ? contact->GetFixtureB() : contact->GetFixtureA();
+    b2Fixture* other = particleIsA ? contact->GetFixtureB() : contact->GetFixtureA();
     b2ShapeCastInput input;
     input.proxyA.Set(other->GetShape(),
                      particleIsA ? contact->GetChildIndexB() : contact->GetChildIndexA());
@@ -123,9 +124,53 @@ void LayeredWorld::Impl::StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) c
     input.transformB = body->GetTransform();
     input.translationB = ToB2(path);
     b2ShapeCastOutput output;
-    if (b2ShapeCast(&output, &input)) lambda = std::min(lambda, static_cast<double>(output.lambda));
+    if (b2ShapeCast(&output, &input) && output.lambda < lambda) {
+      lambda = output.lambda;
+      hit = other;
+    }
   }
   *aim = x + lambda * path;
+  return hit;
+}
+
+void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec2& stop,
+                                        const Vec2& goal, const Vec2& goalVel) {
+  // Without this, every body that comes off a surface by more than Box2D's skin (a grip
+  // rattling, a turn sliding the bodies along a face) pressed with nothing for a substep while
+  // the other side of the grip pushed in full, and a light object shot towards it.
+  const uintptr_t tag = surface->GetUserData().pointer;
+  if (TagKind(tag) != BodyKind::kObject) return;
+  b2Body* slice = surface->GetBody();
+  // the distance from the face's core to the body's centre gives the normal where it arrives
+  b2CircleShape centre;
+  centre.m_radius = 0.0f;
+  b2DistanceInput input;
+  input.proxyA.Set(surface->GetShape(), 0);
+  input.proxyB.Set(&centre, 0);
+  input.transformA = slice->GetTransform();
+  input.transformB = b2Transform(ToB2(stop), b2Rot(0.0f));
+  input.useRadii = false;
+  b2SimplexCache cache;
+  cache.count = 0;
+  b2DistanceOutput output;
+  b2Distance(&output, &cache, &input);
+  if (output.distance <= 0.0f) return;  // the centre inside the core: no normal to press along
+  const Vec2 point = FromB2(output.pointA);
+  const Vec2 in = (point - FromB2(output.pointB)) / static_cast<double>(output.distance);
+  const double d = (goal - stop).dot(in);
+  if (d <= 0.0) return;
+  const double push = params.gripStiffness * std::min(d, params.gripMaxDepth) +
+                      params.gripDamping * goalVel.dot(in);
+  if (push <= 0.0) return;
+  slice->ApplyForce(ToB2(push * in), ToB2(point), true);
+  ContactRecord r;
+  r.object = TagIndex(tag);
+  r.normalIn = in;
+  r.tangentIn = Vec2(-in.y(), in.x());
+  r.normalImpulse = push * dt;
+  r.friction = particleFriction[r.object];
+  r.points = 1;
+  layers[layer]->records.push_back(r);
 }
 
 void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
@@ -139,6 +184,8 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
   const double k = params.gripStiffness, c = params.gripDamping;
   const double dMax = params.gripMaxDepth;
   const double aimScale = dt * dt / m;
+  // the layers' contact records of this substep start here: PressOnArrival adds to them
+  for (auto& layer : layers) layer->records.clear();
   for (ParticleData& p : particles) {
     const Vec2 goal = p.prevTarget + alpha * (p.target - p.prevTarget);
     if (!p.active) {
@@ -152,7 +199,8 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       continue;
     }
     const Vec2 goalVel = (p.target - p.prevTarget) * params.frameRate;
-    for (b2Body* b : p.bodies) {
+    for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
+      b2Body* b = p.bodies[j];
       b->SetAngularVelocity(static_cast<float>(p.spin));
       const Vec2 x = FromB2(b->GetPosition());
       const Vec2 v = FromB2(b->GetLinearVelocity());
@@ -179,7 +227,10 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
         const double push = k * std::min(d, dMax) + c * goalVel.dot(in);
         aim += (push * aimScale - d) * in;
       }
-      if (!pressing) StopAtSurface(b, x, &aim);
+      if (!pressing) {
+        b2Fixture* surface = StopAtSurface(b, x, &aim);
+        if (surface != nullptr) PressOnArrival(p.baseLayer + j, surface, aim, goal, goalVel);
+      }
       const Vec2 force = m * ((aim - x) / dt - v) / dt;
       b->ApplyForceToCenter(ToB2(force), true);
       // continuous collision only when a step could carry the body past a surface: a body moving

@@ -227,8 +227,14 @@ struct LayeredWorld::Impl {
   /// Mass data of one particle body.
   /// Sets each particle's spin from its contact's rigid turn this frame.
   void UpdateSpin();
-  /// Shortens a body's step from x towards *aim so that it stops where it first meets an object.
-  void StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const;
+  /// Shortens a body's step from x towards *aim so that it stops where it first meets an object;
+  /// returns the object fixture it meets (nullptr: none on its path).
+  b2Fixture* StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const;
+  /// A body that reaches an object's surface this substep at stop (Box2D has no contact for it
+  /// until the next one) presses with the grip's force law directly: the force goes to the
+  /// object's slice in that layer and into the layer's contact records.
+  void PressOnArrival(int layer, b2Fixture* surface, const Vec2& stop, const Vec2& goal,
+                      const Vec2& goalVel);
   /// Mass of one particle body, k dt^2 + c dt (docs/physics.md, "Grip"), g.
   double ParticleMass() const;
   b2MassData ParticleMassData() const;

@@ -269,6 +269,46 @@ TEST(Squeeze, NormalForceIsTheSameAtAnySubstepCount) {
   }
 }
 
+TEST(Squeeze, ABodyPressesInTheSubstepItArrives) {
+  // Two rows of 3 stacks (S = 2) wait 0.1 cm clear of the box's faces, beyond Box2D's 0.01 cm
+  // skin, so no contact exists when the next step begins. Their targets then jump 0.7 cm inside
+  // the faces. Within that frame the goal of substep s (of 4) lies -0.1 + 0.2 s inside, so each
+  // body presses k (0.1 + e), k (0.3 + e), k (0.5 + e), k (0.7 + e), e being the overlap offset
+  // of a resting contact: a frame mean of k (0.4 + e). In the next frame, targets held, it
+  // presses k (0.7 + e). So the first frame's force is the second's less 12 k x 0.3, whatever e
+  // is. A body that pressed only from the substep after it arrived gave 12 k x 0.025 less (6%).
+  PhysicsParams params;
+  params.stackSize = 2;
+  LayeredWorld world;
+  MustBuild(world, params, {Box("squeezed", 30, 23)});
+  const double r = params.particleRadius;
+  std::vector<PlannedParticle> ps;
+  for (int i = 0; i < 3; ++i) {
+    const double y = 22 + i;
+    ps.push_back(Create(i + 1, Vec2(28 - r - 0.1, y), Vec2(28 - r - 0.1, y)));
+    ps.push_back(Create(i + 11, Vec2(32 + r + 0.1, y), Vec2(32 + r + 0.1, y)));
+  }
+  world.ApplyPlan(Plan(ps));
+  world.StepFrame();
+  ASSERT_EQ(world.Forces(0).total.normalMagnitude, 0.0);
+  ps.clear();
+  for (int i = 0; i < 3; ++i) {
+    const double y = 22 + i;
+    ps.push_back(Reuse(i + 1, Vec2(28 - r + 0.7, y)));
+    ps.push_back(Reuse(i + 11, Vec2(32 + r - 0.7, y)));
+  }
+  world.ApplyPlan(Plan(ps));
+  world.StepFrame();
+  const double arriving = world.Forces(0).total.normalMagnitude;
+  world.StepFrame();
+  const double resting = world.Forces(0).total.normalMagnitude;
+  const double expected = resting - 12 * params.gripStiffness * 0.3;
+  // 1% for float rounding and solver residue, as the squeezes above
+  EXPECT_NEAR(arriving, expected, 0.01 * expected);
+  // the sides balance: the box stays where it was (float positions)
+  EXPECT_NEAR(world.Object(0).pose.pos.x(), 30.0, 1e-4);
+}
+
 TEST(Squeeze, PressingDeeperThanTheMaximumDepthAddsNoForce) {
   // targets 1.3 cm inside the faces press with k d_max = 57600 x 1.0 dyn per body, not k x 1.3
   Squeeze sq(1.3);
