@@ -4,7 +4,11 @@ namespace pg {
 
 void Describe(TrackingParams& p, ParamVisitor& v) {
   v.Real("max_distance", p.maxDistance, 0, 100, "cm",
-         "farthest a contact's centroid may move between frames and keep its id");
+         "farthest a contact's centroid may move between frames and keep its id, at any frame "
+         "rate");
+  v.Real("max_speed", p.maxSpeed, 0, 10000, "cm/s",
+         "fastest a contact's centroid may move and keep its id: the reach between frames dt "
+         "apart is max(max_distance, max_speed dt)");
 }
 
 }  // namespace pg

@@ -23,7 +23,13 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
   // every (previous contact, blob) pair within reach, nearest first; ties by blob then contact
   // order so the result does not depend on the sort implementation
   m_candidates.clear();
-  const double reach2 = params.maxDistance * params.maxDistance;
+  // a camera slower than 60 Hz (or a recording that repeats frames) shows a finger farther on
+  // between two frames: the reach grows with the time between them
+  const double interval = nPrev > 0 ? frame.time - m_lastTime : 0.0;
+  const double reach =
+      std::max(params.maxDistance, interval > 0.0 ? params.maxSpeed * interval : 0.0);
+  const double reach2 = reach * reach;
+  m_lastTime = frame.time;
   for (int i = 0; i < nPrev; ++i) {
     for (int j = 0; j < nBlobs; ++j) {
       const double d2 = (frame.blobs[j].centroid - m_current[i].blob.centroid).squaredNorm();

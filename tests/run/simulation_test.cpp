@@ -131,9 +131,11 @@ TEST(Simulation, RetuneAppliesLiveParametersWithoutResettingTheRun) {
   // tracking: no centroid may move at all and keep its id
   LevelParams params = sim.params();
   params.tracking.maxDistance = 0.0;
+  params.tracking.maxSpeed = 0.0;
   Result<RetuneReport> report = sim.Retune(params);
   ASSERT_TRUE(report.ok()) << report.error().Format();
-  EXPECT_EQ(report.value().live, std::vector<std::string>{"tracking.max_distance"});
+  EXPECT_EQ(report.value().live,
+            (std::vector<std::string>{"tracking.max_distance", "tracking.max_speed"}));
   EXPECT_TRUE(report.value().restart.empty());
   // nothing was reset: same frame, same world bit for bit, same contacts
   EXPECT_EQ(StateOf(sim), before);

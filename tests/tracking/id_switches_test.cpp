@@ -196,23 +196,23 @@ TEST(RealFootage, AHeldFingerKeepsItsIdOnHard5Point) {
   EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), kMaxSwitchesPerMinuteOfTouch);
 }
 
-// Not met yet (issue 14 stays open on it): seth_tests.avi gives 33 switches in 2.2 minutes of
-// touch (15 per minute). 23 are jumps: the recording moves in steps (a finger still for several
-// frames, then 4.4 to 6.4 cm in one frame), farther than tracking.max_distance (4 cm); 10 are
-// flickers, mostly faint fingertips at about min_area (0.5 cm^2) dropping out for 1 to 3 frames.
+// Not met yet (issue 14 stays open on it): seth_tests.avi gives 10 switches in 2.2 minutes of
+// touch (4.5 per minute), all flickers, mostly faint fingertips at about min_area (0.5 cm^2)
+// dropping out for 1 to 3 frames. (Its 23 jumps went when the reach became a speed,
+// tracking.max_speed: the recording moves in steps of 4.4 to 6.4 cm a frame at 20 fps.)
 TEST(RealFootage, DISABLED_AHeldFingerKeepsItsIdOnSethTests) {
   const Measured m = MeasureClip("ccv-hand/seth_tests.avi");
   if (!m.skip.empty()) GTEST_SKIP() << m.skip;
   EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), kMaxSwitchesPerMinuteOfTouch);
 }
 
-// Until then, seth_tests.avi must not get worse: at most the measured 15.0 switches per minute of
+// Until then, seth_tests.avi must not get worse: at most the measured 4.5 switches per minute of
 // touch plus one (a new false contact near a finger that flickers could add one or two).
 TEST(RealFootage, SethTestsIdSwitchesGetNoWorse) {
   const Measured m = MeasureClip("ccv-hand/seth_tests.avi");
   if (!m.skip.empty()) GTEST_SKIP() << m.skip;
   EXPECT_GT(m.count.MinutesOfTouch(m.fps), 1.0) << "the clip's fingers were not found";
-  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), 16.0);
+  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), 5.5);
 }
 
 }  // namespace

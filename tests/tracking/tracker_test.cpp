@@ -92,6 +92,7 @@ TEST(Tracker, FartherThanMaxDistanceIsANewContact) {
   Tracker t;
   TrackingParams p;
   p.maxDistance = 2.0;
+  p.maxSpeed = 0.0;  // the reach is max_distance alone
   StepWith(t, p, Frame(0, {BlobAt(10, 10)}));
   ContactSet s = StepWith(t, p, Frame(1, {BlobAt(12.5, 10)}));
   ASSERT_EQ(s.contacts.size(), 2u);
@@ -103,6 +104,29 @@ TEST(Tracker, FartherThanMaxDistanceIsANewContact) {
   ContactSet at = StepWith(t, p, Frame(2, {BlobAt(14.5, 10)}));
   EXPECT_EQ(at.contacts[0].id, 2);
   EXPECT_EQ(at.contacts[0].state, ContactState::kContinuing);
+}
+
+TEST(Tracker, TheReachGrowsWithTheTimeBetweenFrames) {
+  // defaults: max_distance 4 cm, max_speed 150 cm/s. At 60 Hz the reach is max(4, 150/60) = 4 cm;
+  // at 20 fps (a slower camera, or a recording that repeats frames) it is 150/20 = 7.5 cm
+  auto at = [](int64_t index, double fps, double x) {
+    ContourFrame f = Frame(index, {BlobAt(x, 10)});
+    f.time = index / fps;
+    return f;
+  };
+  Tracker fast;
+  fast.Step(at(0, 60.0, 10.0));
+  EXPECT_EQ(fast.Step(at(1, 60.0, 16.0)).contacts[0].state, ContactState::kNew);  // 6 > 4
+  Tracker slow;
+  slow.Step(at(0, 20.0, 10.0));
+  ContactSet s = slow.Step(at(1, 20.0, 16.0));  // 6 <= 7.5
+  EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+  EXPECT_EQ(s.contacts[0].id, 1);
+  EXPECT_EQ(slow.Step(at(2, 20.0, 24.0)).contacts[0].state, ContactState::kNew);  // 8 > 7.5
+  // a frame that is not later than the last (a still, or a restarted clock) reaches max_distance
+  Tracker still;
+  still.Step(at(0, 20.0, 10.0));
+  EXPECT_EQ(still.Step(at(0, 20.0, 16.0)).contacts[0].state, ContactState::kNew);
 }
 
 TEST(Tracker, GloballyNearestPairsFirst) {

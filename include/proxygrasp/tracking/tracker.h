@@ -24,7 +24,8 @@ class Tracker {
   const TrackingParams& params() const { return m_params; }
 
   /// One frame. Matches frame's blobs to the last frame's contacts: every pair of (last contact,
-  /// blob) whose centroids are within params.maxDistance cm is a candidate; candidates are taken
+  /// blob) whose centroids are within max(params.maxDistance, params.maxSpeed dt) cm, dt the time
+  /// since the last frame (frame.time), is a candidate; candidates are taken
   /// globally nearest first, each contact and blob at most once. Matched blobs continue their
   /// contact's id; unmatched blobs are new (fresh id); unmatched last contacts are lifted and
   /// listed once, with their last blob, after the current contacts.
@@ -45,6 +46,7 @@ class Tracker {
 
   TrackingParams m_params;
   std::vector<Contact> m_current;
+  double m_lastTime = 0.0;  // frame.time of the last Step, s
   IdCounter m_ids;
   std::vector<Candidate> m_candidates;  // scratch
 };

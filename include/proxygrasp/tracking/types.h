@@ -30,7 +30,12 @@ struct ContactSet {
 
 /// Parameters of frame-to-frame association. Section [tracking] of a level.
 struct TrackingParams {
-  double maxDistance = 4.0;  ///< farthest a centroid may move between frames and keep its id, cm
+  /// farthest a centroid may move between two frames and keep its id at any frame rate, cm
+  double maxDistance = 4.0;
+  /// fastest a centroid may move and keep its id, cm/s: between frames dt apart the reach is
+  /// max(maxDistance, maxSpeed dt), so a slower camera (or a recording that repeats frames)
+  /// reaches as far in time as a faster one
+  double maxSpeed = 150.0;
 };
 
 void Describe(TrackingParams& p, ParamVisitor& v);
