@@ -64,13 +64,4 @@ void Describe(SensingParams& p, ParamVisitor& v) {
          "pixel size of the table-aligned contact image (instant mode, drawing)");
 }
 
-SensingParams RealTableSensingParams() {
-  SensingParams p;
-  p.backgroundLearning = 10.0;  // s
-  p.highpassWidth = 4.0;        // cm
-  p.highpassCap = 40.0;         // grey
-  p.threshold = 30.0;           // grey
-  return p;
-}
-
 }  // namespace pg

@@ -118,14 +118,13 @@ BENCHMARK(BM_RenderClearTable)->Unit(benchmark::kMicrosecond)->MeasureProcessCPU
 // default chain: background subtraction, smoothing, high-pass, gain, threshold, opening, contours,
 // sub-pixel edges, table mapping, resampling, background learning) against the same filters as
 // bare OpenCV calls ending at findContours (BareSensingChain, run/bench.h). Target: the sensing
-// stage within 1.5x of the bare chain.
-// both run the real-table settings of docs/sensing.md (RealTableSensingParams)
+// stage within 1.5x of the bare chain. Both run the default parameters.
 
 void BM_ChainSensingStage(benchmark::State& state) {
   cv::setNumThreads(0);
   const Recording rec = Record("fingers", 0.0);
   Sensor sensor;
-  if (sensor.Configure(RealTableSensingParams(), TableParams{}, rec.calibration) ||
+  if (sensor.Configure(SensingParams(), TableParams{}, rec.calibration) ||
       sensor.SetBackground(rec.background)) {
     state.SkipWithError("sensor configuration failed");
     return;
@@ -145,7 +144,7 @@ void BM_ChainBareOpenCV(benchmark::State& state) {
   cv::setNumThreads(0);
   const Recording rec = Record("fingers", 0.0);
   // the same chain `proxygrasp bench` compares the sensing stage with
-  BareSensingChain chain(RealTableSensingParams(), TableParams{}, rec.background);
+  BareSensingChain chain(SensingParams(), TableParams{}, rec.background);
   int64_t index = 0;
   size_t contours = 0;
   for (auto _ : state) {

@@ -543,7 +543,7 @@ TEST(Sensor, HighpassFadesAWideGlowAndKeepsAFingertip) {
   // a 4 cm (deviation) glow 45 grey bright, with a fingertip on it: the glow alone is over the
   // threshold of 30; the high-pass (4 cm wide, removing up to 40 grey) leaves the glow at most
   // 45 - 40 = 5 grey where its own blur is at its peak, so only the fingertip is a contact
-  SensingParams sp = RealTableSensingParams();
+  SensingParams sp;  // the defaults
   Rig rig(HardCamera(), sp);
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   const ContactShape shapes[] = {Circle({30.0, 22.0}, 0.8)};
@@ -597,7 +597,7 @@ TEST(Sensor, WarmupMakesAStaticHotSpotBackground) {
   // no background given: estimated from the first frame, which shows an illuminator's hot spot
   // (a 3 cm deviation glow 150 grey bright, wider than the 32 px blocks of the estimate); after
   // the warm-up (0.3 s) it is background, and a fingertip that comes later is the only contact
-  SensingParams sp = RealTableSensingParams();
+  SensingParams sp;  // the defaults
   Rig rig(HardCamera(), sp);
   const cv::Mat empty = WithGlow(rig, rig.camera.Render({}), Vec2(15.0, 30.0), 3.0, 150.0);
   for (int i = 0; i < 30; ++i) ASSERT_TRUE(rig.sensor.Step(empty, i, i / 30.0));
@@ -639,7 +639,7 @@ real::Score ScoreClips(const RealData& d, const std::vector<std::string>& names)
     real::Score s;
     size_t next = 0;
     const bool read =
-        real::RunClip(d.dir, clip, RealTableSensingParams(), clip.LastFrame(),
+        real::RunClip(d.dir, clip, SensingParams(), clip.LastFrame(),
                       [&](int i, const ContourFrame& f, const Sensor& sensor) {
                         while (next < clip.frames.size() && clip.frames[next].index < i) ++next;
                         if (next < clip.frames.size() && clip.frames[next].index == i)
@@ -661,7 +661,7 @@ real::Score ScoreClips(const RealData& d, const std::vector<std::string>& names)
 // the clips where the defaults meet the fingertip acceptance (t2.avi does not: see below)
 const std::vector<std::string> kFtirAndBrightDi = {"hard-5point", "seth_tests", "realhands"};
 
-TEST(RealFootage, RealTableSettingsFindAtLeast95PercentOfTheLabelledFingertips) {
+TEST(RealFootage, DefaultsFindAtLeast95PercentOfTheLabelledFingertips) {
   const RealData d = LoadReal();
   if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
   const real::Score s = ScoreClips(d, kFtirAndBrightDi);
@@ -670,14 +670,14 @@ TEST(RealFootage, RealTableSettingsFindAtLeast95PercentOfTheLabelledFingertips) 
   EXPECT_GE(s.found, 0.95 * s.tips) << s.misses;
 }
 
-TEST(RealFootage, RealTableSettingsFindNoContactAtTheHotSpotsOfT2AfterTheFirstSecond) {
+TEST(RealFootage, DefaultsFindNoContactAtTheHotSpotsOfT2AfterTheFirstSecond) {
   const RealData d = LoadReal();
   if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
   for (const real::LabelledClip& clip : d.clips) {
     if (clip.hotspots.empty()) continue;
     int hits = 0, frames = 0;
     // a contact "at" a hot spot: its centroid within half the spot's radius of the centre
-    ASSERT_TRUE(real::RunClip(d.dir, clip, RealTableSensingParams(), 1 << 30,
+    ASSERT_TRUE(real::RunClip(d.dir, clip, SensingParams(), 1 << 30,
                               [&](int, const ContourFrame& f, const Sensor& sensor) {
                                 ++frames;
                                 if (f.time <= 1.0) return;
@@ -693,9 +693,9 @@ TEST(RealFootage, RealTableSettingsFindNoContactAtTheHotSpotsOfT2AfterTheFirstSe
 }
 
 // Not met yet (issue 14 stays open on it): at most 1 contact per 20 labelled frames that holds
-// no fingertip label and lies in no "maybe" circle. The real-table settings give 3 in 35 frames
+// no fingertip label and lies in no "maybe" circle. The defaults give 3 in 35 frames
 // (1.7 per 20), all on seth_tests.avi (a knuckle beside a fingertip, the glowing heel of a palm).
-TEST(RealFootage, DISABLED_RealTableSettingsFindAtMostOneUnlabelledContactPer20Frames) {
+TEST(RealFootage, DISABLED_DefaultsFindAtMostOneUnlabelledContactPer20Frames) {
   const RealData d = LoadReal();
   if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
   const real::Score s = ScoreClips(d, kFtirAndBrightDi);
@@ -705,7 +705,7 @@ TEST(RealFootage, DISABLED_RealTableSettingsFindAtMostOneUnlabelledContactPer20F
 // Not met yet (issue 14 stays open on it): t2.avi's hands are a few grey levels above the table;
 // gain 1 and threshold 30 find none of them. Gain 12 with threshold 40 finds 58
 // of 60, but then gives 2 to 5 false contacts per frame on the other clips.
-TEST(RealFootage, DISABLED_RealTableSettingsFindTheLowContrastHandsOfT2) {
+TEST(RealFootage, DISABLED_DefaultsFindTheLowContrastHandsOfT2) {
   const RealData d = LoadReal();
   if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
   const real::Score s = ScoreClips(d, {"t2.avi"});

@@ -164,7 +164,7 @@ Measured MeasureClip(const std::string& name) {
   Tracker tracker;
   IdSwitchCounter counter;
   EXPECT_TRUE(real::RunClip(
-      dir, *clip, RealTableSensingParams(), 1 << 30,
+      dir, *clip, SensingParams(), 1 << 30,
       [&](int, const ContourFrame& f, const Sensor&) { counter.Add(tracker.Step(f)); }))
       << "cannot read " << dir << "/" << name;
   m.count = counter.count();

@@ -69,16 +69,16 @@ inline constexpr const char* kThresholdModeNames[] = {"fixed", "auto"};
 
 /// Parameters of preprocessing and contour extraction. Section [sensing] of a level.
 struct SensingParams {
-  std::string calibration;          ///< calibration YAML file, "" maps the image linearly
-  int backgroundFrames = 0;         ///< frames averaged into the background at start (0 = estimate)
-  double backgroundWarmup = 0.3;    ///< time an estimated background follows every pixel, s
-  double backgroundLearning = 0.0;  ///< time constant of the learned background, s (0 = frozen)
-  double smooth = 0.0;              ///< Gaussian smoothing deviation, cm (0 = none)
-  double highpassWidth = 0.0;       ///< width of the blur the high-pass subtracts, cm (0 = none)
-  double highpassCap = 40.0;        ///< most slow brightness the high-pass removes, 8-bit grey
-  double gain = 1.0;                ///< amplification after the high-pass, non-dimensional
+  std::string calibration;        ///< calibration YAML file, "" maps the image linearly
+  int backgroundFrames = 0;       ///< frames averaged into the background at start (0 = estimate)
+  double backgroundWarmup = 0.3;  ///< time an estimated background follows every pixel, s
+  double backgroundLearning = 10.0;  ///< learned background's time constant, s (0 = frozen)
+  double smooth = 0.0;               ///< Gaussian smoothing deviation, cm (0 = none)
+  double highpassWidth = 4.0;        ///< width of the blur the high-pass subtracts, cm (0 = none)
+  double highpassCap = 40.0;         ///< most slow brightness the high-pass removes, 8-bit grey
+  double gain = 1.0;                 ///< amplification after the high-pass, non-dimensional
   ThresholdMode thresholdMode = ThresholdMode::kFixed;  ///< fixed level or automatic (Otsu)
-  double threshold = 60.0;       ///< fixed threshold on the filtered image, 8-bit grey
+  double threshold = 30.0;       ///< fixed threshold on the filtered image, 8-bit grey
   double autoFloor = 30.0;       ///< lowest threshold the automatic mode may pick, 8-bit grey
   int morphology = 1;            ///< radius of the clean-up opening, pixels (0 = none)
   double minArea = 0.5;          ///< smallest contact kept, cm^2
@@ -113,11 +113,5 @@ struct ContourFrame {
 
 void Describe(SyntheticCameraParams& p, ParamVisitor& v);
 void Describe(SensingParams& p, ParamVisitor& v);
-
-/// The real-table settings of docs/sensing.md: the defaults with background learning (10 s), a
-/// capped high-pass (4 cm, 40 grey) and threshold 30, one set for every clip in ../shared/real.
-/// The defaults themselves keep the synthetic levels' outcomes (high-pass and learning off,
-/// threshold 60).
-SensingParams RealTableSensingParams();
 
 }  // namespace pg
