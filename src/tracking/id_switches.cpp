@@ -32,9 +32,11 @@ void IdSwitchCounter::Add(const ContactSet& set) {
   std::vector<Lift> lifted;
   std::vector<const Contact*> started;
   for (const Contact& c : set.contacts) {
+    // a contact kept after its blob went (tracking.keep_lost) counts from the frame it was first
+    // missing, as if it had lifted then, and the frames it was kept are no touch
     if (c.state == ContactState::kLifted)
-      lifted.push_back({c.blob.centroid, set.frame, c.id, c.blob.area});
-    else
+      lifted.push_back({c.blob.centroid, set.frame - c.missed, c.id, c.blob.area});
+    else if (c.missed == 0)
       ++m_count.contactFrames;
     if (c.state == ContactState::kNew) started.push_back(&c);
   }
@@ -74,7 +76,8 @@ void IdSwitchCounter::Add(const ContactSet& set) {
 
   // flickers: each new contact continues at most one lift, the nearest within maxDistance
   // (this frame's lifts included), and each lift is continued at most once
-  m_lifts.insert(m_lifts.end(), lifted.begin(), lifted.end());
+  for (const Lift& l : lifted)
+    if (l.frame >= oldest) m_lifts.push_back(l);
   const double reach2 = m_params.maxDistance * m_params.maxDistance;
   for (const Contact* c : started) {
     auto nearest = m_lifts.end();

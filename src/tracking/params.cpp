@@ -9,6 +9,9 @@ void Describe(TrackingParams& p, ParamVisitor& v) {
   v.Real("max_speed", p.maxSpeed, 0, 10000, "cm/s",
          "fastest a contact's centroid may move and keep its id: the reach between frames dt "
          "apart is max(max_distance, max_speed dt)");
+  v.Integer("keep_lost", p.keepLost, 0, 60, "frames",
+            "frames a contact whose blob is gone continues where it was last seen before it is "
+            "lifted (a blob that drops out for a frame or two keeps its id)");
 }
 
 }  // namespace pg

@@ -24,13 +24,12 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
   // order so the result does not depend on the sort implementation
   m_candidates.clear();
   // a camera slower than 60 Hz (or a recording that repeats frames) shows a finger farther on
-  // between two frames: the reach grows with the time between them
-  const double interval = nPrev > 0 ? frame.time - m_lastTime : 0.0;
-  const double reach =
-      std::max(params.maxDistance, interval > 0.0 ? params.maxSpeed * interval : 0.0);
-  const double reach2 = reach * reach;
-  m_lastTime = frame.time;
+  // between two frames: the reach grows with the time since the contact was last seen
   for (int i = 0; i < nPrev; ++i) {
+    const double interval = frame.time - m_seen[i];
+    const double reach =
+        std::max(params.maxDistance, interval > 0.0 ? params.maxSpeed * interval : 0.0);
+    const double reach2 = reach * reach;
     for (int j = 0; j < nBlobs; ++j) {
       const double d2 = (frame.blobs[j].centroid - m_current[i].blob.centroid).squaredNorm();
       if (d2 <= reach2) m_candidates.push_back({d2, i, j});
@@ -53,7 +52,9 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
 
   // current contacts in blob order (largest first), continuing or new
   std::vector<Contact> next;
+  std::vector<double> seen;
   next.reserve(nBlobs);
+  seen.reserve(nBlobs);
   for (int j = 0; j < nBlobs; ++j) {
     Contact c;
     if (blobToPrev[j] >= 0) {
@@ -65,22 +66,35 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
     }
     c.blob = frame.blobs[j];
     next.push_back(std::move(c));
+    seen.push_back(frame.time);
   }
-  out.contacts = next;
-
-  // lifted contacts once, with their last blob, after the current ones
+  // unmatched contacts continue where they were last seen for keep_lost frames (a blob that
+  // drops out for a frame or two keeps its id and its particles); then they are lifted
+  std::vector<Contact> lifted;
   for (int i = 0; i < nPrev; ++i) {
     if (prevTaken[i]) continue;
-    Contact lifted = std::move(m_current[i]);
-    lifted.state = ContactState::kLifted;
-    out.contacts.push_back(std::move(lifted));
+    Contact c = std::move(m_current[i]);
+    if (c.missed < params.keepLost) {
+      c.state = ContactState::kContinuing;
+      ++c.missed;
+      next.push_back(std::move(c));
+      seen.push_back(m_seen[i]);
+    } else {
+      c.state = ContactState::kLifted;
+      lifted.push_back(std::move(c));
+    }
   }
+  out.contacts = next;
+  // lifted contacts once, with their last blob, after the current ones
+  for (Contact& c : lifted) out.contacts.push_back(std::move(c));
   m_current = std::move(next);
+  m_seen = std::move(seen);
   return out;
 }
 
 void Tracker::Reset() {
   m_current.clear();
+  m_seen.clear();
 }
 
 }  // namespace pg

@@ -350,9 +350,11 @@ TEST_F(AppTest, LiveParameterChangesKeepTheRunningLevel) {
   LevelParams params = app.simulation().params();
   params.sensing.threshold = 200.0;
   params.tracking.maxDistance = 1.5;
+  params.tracking.keepLost = 0;  // an unseen contact is lifted at once
   app.RequestParams(params);
   ASSERT_TRUE(app.Tick());
-  EXPECT_EQ(app.tuneStatus(), "applied live: sensing.threshold, tracking.max_distance");
+  EXPECT_EQ(app.tuneStatus(),
+            "applied live: sensing.threshold, tracking.max_distance, tracking.keep_lost");
   EXPECT_EQ(app.runError(), "");
   // the run was not restarted: same frame, the world bit for bit as it was
   EXPECT_EQ(app.simulation().Frame(), frame);

@@ -132,10 +132,12 @@ TEST(Simulation, RetuneAppliesLiveParametersWithoutResettingTheRun) {
   LevelParams params = sim.params();
   params.tracking.maxDistance = 0.0;
   params.tracking.maxSpeed = 0.0;
+  params.tracking.keepLost = 0;
   Result<RetuneReport> report = sim.Retune(params);
   ASSERT_TRUE(report.ok()) << report.error().Format();
   EXPECT_EQ(report.value().live,
-            (std::vector<std::string>{"tracking.max_distance", "tracking.max_speed"}));
+            (std::vector<std::string>{"tracking.max_distance", "tracking.max_speed",
+                                      "tracking.keep_lost"}));
   EXPECT_TRUE(report.value().restart.empty());
   // nothing was reset: same frame, same world bit for bit, same contacts
   EXPECT_EQ(StateOf(sim), before);
@@ -194,9 +196,15 @@ TEST(Simulation, RetuneChangesTheSensorInPlace) {
   EXPECT_EQ(report.value().live,
             (std::vector<std::string>{"sensing.threshold", "sensing.morphology"}));
   EXPECT_EQ(StateOf(sim), before);
+  // the tracker keeps the unseen fingertips where they were for keep_lost (3) frames, then
+  // lifts them
+  for (int kept = 1; kept <= 3; ++kept) {
+    ASSERT_FALSE(sim.StepScript());
+    EXPECT_EQ(sim.stats().contacts, 2);
+  }
   ASSERT_FALSE(sim.StepScript());
   EXPECT_EQ(sim.stats().contacts, 0);
-  EXPECT_EQ(sim.Frame(), 6);
+  EXPECT_EQ(sim.Frame(), 9);
 
   // back to the level's threshold: the fingertips are seen again, as new contacts
   params.sensing.threshold = level.params.sensing.threshold;

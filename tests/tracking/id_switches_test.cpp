@@ -51,6 +51,31 @@ TEST(IdSwitchCounter, ATrackThatLiftsAndReappearsCountsOne) {
   EXPECT_DOUBLE_EQ(counter.count().PerMinuteOfTouch(30.0), 1.0 / (4.0 / 30.0 / 60.0));
 }
 
+TEST(IdSwitchCounter, AKeptContactCountsFromTheFrameItWasFirstMissing) {
+  // the tracker kept id 1 where it was for 3 frames (missed 1 to 3) and listed it lifted in
+  // frame 4 (missed 3): the counter takes the lift as of frame 1, and the kept frames are no touch
+  auto kept = [](int64_t frame, int missed, ContactState state) {
+    Contact c = ContactAt(1, state, 10, 10);
+    c.missed = missed;
+    return Set(frame, {c});
+  };
+  IdSwitchCounter within;  // maxGapFrames 3
+  within.Add(Set(0, {ContactAt(1, kNew, 10, 10)}));
+  for (int f = 1; f <= 3; ++f) within.Add(kept(f, f, kOn));
+  Contact lifted = ContactAt(1, kLifted, 10, 10);
+  lifted.missed = 3;
+  Contact back = ContactAt(2, kNew, 10.3, 10);
+  within.Add(Set(4, {back, lifted}));  // 3 frames after frame 1
+  EXPECT_EQ(within.count().switches, 1);
+  EXPECT_EQ(within.count().contactFrames, 2);  // frames 0 and 4
+  IdSwitchCounter after;
+  after.Add(Set(0, {ContactAt(1, kNew, 10, 10)}));
+  for (int f = 1; f <= 3; ++f) after.Add(kept(f, f, kOn));
+  after.Add(Set(4, {lifted}));
+  after.Add(Set(5, {back}));  // 4 frames after frame 1: a new touch
+  EXPECT_EQ(after.count().switches, 0);
+}
+
 TEST(IdSwitchCounter, TwoFarApartFingersCountNone) {
   IdSwitchCounter counter;
   // one finger lifts at (10, 10) while another, 20 cm away (beyond a hand's span), lands and stays
@@ -136,7 +161,7 @@ struct Measured {
   std::string skip;
 };
 
-Measured MeasureClip(const std::string& name) {
+Measured MeasureClip(const std::string& name, const IdSwitchParams& window = IdSwitchParams()) {
   Measured m;
   const std::string dir = real::RealDataDir();
   if (dir.empty()) {
@@ -162,7 +187,7 @@ Measured MeasureClip(const std::string& name) {
   EXPECT_GT(m.fps, 0.0) << name;
 
   Tracker tracker;
-  IdSwitchCounter counter;
+  IdSwitchCounter counter(window);
   EXPECT_TRUE(real::RunClip(
       dir, *clip, SensingParams(), 1 << 30,
       [&](int, const ContourFrame& f, const Sensor&) { counter.Add(tracker.Step(f)); }))
@@ -196,23 +221,30 @@ TEST(RealFootage, AHeldFingerKeepsItsIdOnHard5Point) {
   EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), kMaxSwitchesPerMinuteOfTouch);
 }
 
-// Not met yet (issue 14 stays open on it): seth_tests.avi gives 10 switches in 2.2 minutes of
-// touch (4.5 per minute), all flickers, mostly faint fingertips at about min_area (0.5 cm^2)
-// dropping out for 1 to 3 frames. (Its 23 jumps went when the reach became a speed,
-// tracking.max_speed: the recording moves in steps of 4.4 to 6.4 cm a frame at 20 fps.)
-TEST(RealFootage, DISABLED_AHeldFingerKeepsItsIdOnSethTests) {
-  const Measured m = MeasureClip("ccv-hand/seth_tests.avi");
-  if (!m.skip.empty()) GTEST_SKIP() << m.skip;
-  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), kMaxSwitchesPerMinuteOfTouch);
-}
-
-// Until then, seth_tests.avi must not get worse: at most the measured 4.5 switches per minute of
-// touch plus one (a new false contact near a finger that flickers could add one or two).
-TEST(RealFootage, SethTestsIdSwitchesGetNoWorse) {
+// seth_tests.avi: 0 switches in 2.2 minutes of touch with the default tracker. Before
+// tracking.max_speed it had 23 jumps (the recording moves in steps of 4.4 to 6.4 cm a frame at
+// 20 fps, beyond a fixed 4 cm reach); before tracking.keep_lost (3 frames) 10 flickers, mostly
+// faint fingertips at about min_area (0.5 cm^2) dropping out for 1 to 3 frames. keep_lost bridges
+// exactly the gaps the counter calls flickers (maxGapFrames 3), so here 0 says that every
+// returning blob was matched back to its kept contact; the test below watches longer gaps.
+TEST(RealFootage, AHeldFingerKeepsItsIdOnSethTests) {
   const Measured m = MeasureClip("ccv-hand/seth_tests.avi");
   if (!m.skip.empty()) GTEST_SKIP() << m.skip;
   EXPECT_GT(m.count.MinutesOfTouch(m.fps), 1.0) << "the clip's fingers were not found";
-  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), 5.5);
+  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), kMaxSwitchesPerMinuteOfTouch);
+}
+
+// Gaps of 4 to 6 frames (0.2 to 0.3 s at 20 fps), which keep_lost does not bridge and the
+// acceptance's counter calls new touches: counted with a 6-frame window, seth_tests.avi has 11
+// (5.0 per minute of touch; 24 without keep_lost). Whether they are the same finger cannot be told
+// from the tracker's output. They must not get more frequent: at most the measured 5.0 plus one.
+TEST(RealFootage, SethTestsLongerGapsGetNoMoreFrequent) {
+  IdSwitchParams window;
+  window.maxGapFrames = 6;
+  const Measured m = MeasureClip("ccv-hand/seth_tests.avi", window);
+  if (!m.skip.empty()) GTEST_SKIP() << m.skip;
+  EXPECT_GT(m.count.MinutesOfTouch(m.fps), 1.0) << "the clip's fingers were not found";
+  EXPECT_LE(m.count.PerMinuteOfTouch(m.fps), 6.0);
 }
 
 }  // namespace

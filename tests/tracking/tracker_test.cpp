@@ -62,6 +62,7 @@ TEST(Tracker, KeepsItsParametersAndRejectsOutOfRangeOnes) {
 TEST(Tracker, NewContinuingLifted) {
   Tracker t;
   TrackingParams p;
+  p.keepLost = 0;  // lifted in the first frame without its blob
   ContactSet s0 = StepWith(t, p, Frame(0, {BlobAt(10, 10), BlobAt(30, 10)}));
   ASSERT_EQ(s0.contacts.size(), 2u);
   EXPECT_EQ(s0.frame, 0);
@@ -93,6 +94,7 @@ TEST(Tracker, FartherThanMaxDistanceIsANewContact) {
   TrackingParams p;
   p.maxDistance = 2.0;
   p.maxSpeed = 0.0;  // the reach is max_distance alone
+  p.keepLost = 0;    // lifted in the first frame without its blob
   StepWith(t, p, Frame(0, {BlobAt(10, 10)}));
   ContactSet s = StepWith(t, p, Frame(1, {BlobAt(12.5, 10)}));
   ASSERT_EQ(s.contacts.size(), 2u);
@@ -129,6 +131,51 @@ TEST(Tracker, TheReachGrowsWithTheTimeBetweenFrames) {
   EXPECT_EQ(still.Step(at(0, 20.0, 16.0)).contacts[0].state, ContactState::kNew);
 }
 
+TEST(Tracker, ALostContactIsKeptForKeepLostFramesThenLifted) {
+  // default keep_lost: 3 frames. A blob missing for 2 frames comes back under its id; one
+  // missing for 4 frames is lifted in the 4th, having gone on where it was last seen for 3
+  Tracker t;
+  t.Step(Frame(0, {BlobAt(10, 10)}));
+  for (int f = 1; f <= 2; ++f) {
+    ContactSet s = t.Step(Frame(f, {}));
+    ASSERT_EQ(s.contacts.size(), 1u);
+    EXPECT_EQ(s.contacts[0].id, 1);
+    EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+    EXPECT_EQ(s.contacts[0].missed, f);
+    EXPECT_DOUBLE_EQ(s.contacts[0].blob.centroid.x(), 10.0);  // where it was last seen
+  }
+  ContactSet back = t.Step(Frame(3, {BlobAt(10.5, 10)}));
+  ASSERT_EQ(back.contacts.size(), 1u);
+  EXPECT_EQ(back.contacts[0].id, 1);
+  EXPECT_EQ(back.contacts[0].state, ContactState::kContinuing);
+  EXPECT_EQ(back.contacts[0].missed, 0);
+  for (int f = 4; f <= 6; ++f) {
+    ContactSet s = t.Step(Frame(f, {}));
+    ASSERT_EQ(s.contacts.size(), 1u);
+    EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+  }
+  ContactSet gone = t.Step(Frame(7, {}));
+  ASSERT_EQ(gone.contacts.size(), 1u);
+  EXPECT_EQ(gone.contacts[0].id, 1);
+  EXPECT_EQ(gone.contacts[0].state, ContactState::kLifted);
+  EXPECT_EQ(gone.contacts[0].missed, 3);
+  EXPECT_TRUE(t.Step(Frame(8, {})).contacts.empty());
+  // a kept contact's reach grows with the time since it was last seen: 150 cm/s over 4 frames
+  // at 20 fps is 30 cm
+  Tracker slow;
+  auto at = [](int64_t index, std::vector<Blob> blobs) {
+    ContourFrame f = Frame(index, std::move(blobs));
+    f.time = index / 20.0;
+    return f;
+  };
+  slow.Step(at(0, {BlobAt(10, 10)}));
+  for (int f = 1; f <= 3; ++f) slow.Step(at(f, {}));
+  ContactSet far = slow.Step(at(4, {BlobAt(35, 10)}));
+  ASSERT_EQ(far.contacts.size(), 1u);
+  EXPECT_EQ(far.contacts[0].id, 1);
+  EXPECT_EQ(far.contacts[0].state, ContactState::kContinuing);
+}
+
 TEST(Tracker, GloballyNearestPairsFirst) {
   // previous A at x=0 and B at x=3; current blobs at x=2 and x=3.5. Matching blob by blob in
   // order would give the x=2 blob to its nearest, B (distance 1), and leave A and the x=3.5 blob
@@ -149,6 +196,7 @@ TEST(Tracker, MergeKeepsTheNearestIdAndLiftsTheOther) {
   // two fingertips (areas 2 and 1) merge into one blob whose centroid is area-weighted
   Tracker t;
   TrackingParams p;
+  p.keepLost = 0;  // lifted in the first frame without its blob
   StepWith(t, p, Frame(0, {BlobAt(10, 10, 2.0), BlobAt(12, 10, 1.0)}));
   ContactSet s = StepWith(t, p, Frame(1, {BlobAt(10.7, 10, 3.0)}));
   ASSERT_EQ(s.contacts.size(), 2u);
@@ -173,6 +221,7 @@ TEST(Tracker, SplitKeepsTheNearestPieceAndTheOtherIsNew) {
 TEST(Tracker, IdsAreNeverReused) {
   Tracker t;
   TrackingParams p;
+  p.keepLost = 0;  // lifted in the first frame without its blob
   std::set<ContactId> seen;
   for (int i = 0; i < 20; ++i) {
     // a contact appears every other frame and vanishes the next
@@ -275,7 +324,15 @@ TEST(TrackerPipeline, LiftedFingerPutDownAgainGetsANewId) {
     if (c.blob.centroid.x() > 30) idB = c.id;
   ASSERT_NE(idB, kNoId);
   p.Step(both);
-  // lift b: it is reported lifted once, with its last blob
+  // lift b: it goes on where it was for keep_lost (3) frames, then it is reported lifted once,
+  // with its last blob
+  for (int kept = 1; kept <= 3; ++kept) {
+    s = p.Step(onlyA);
+    ASSERT_EQ(s.contacts.size(), 2u);
+    EXPECT_EQ(s.contacts[1].id, idB);
+    EXPECT_EQ(s.contacts[1].state, ContactState::kContinuing);
+    EXPECT_EQ(s.contacts[1].missed, kept);
+  }
   s = p.Step(onlyA);
   ASSERT_EQ(s.contacts.size(), 2u);
   EXPECT_EQ(s.contacts[1].id, idB);

@@ -73,7 +73,7 @@ class IdSwitchCounter {
  private:
   struct Lift {
     Vec2 at;        // last centroid, cm
-    int64_t frame;  // the frame that listed it as lifted
+    int64_t frame;  // the frame that listed it as lifted, less the frames it was kept (missed)
     ContactId id;
     double area;  // cm^2
   };

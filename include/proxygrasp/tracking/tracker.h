@@ -23,12 +23,14 @@ class Tracker {
   MaybeError SetParams(const TrackingParams& params);
   const TrackingParams& params() const { return m_params; }
 
-  /// One frame. Matches frame's blobs to the last frame's contacts: every pair of (last contact,
-  /// blob) whose centroids are within max(params.maxDistance, params.maxSpeed dt) cm, dt the time
-  /// since the last frame (frame.time), is a candidate; candidates are taken
-  /// globally nearest first, each contact and blob at most once. Matched blobs continue their
-  /// contact's id; unmatched blobs are new (fresh id); unmatched last contacts are lifted and
-  /// listed once, with their last blob, after the current contacts.
+  /// One frame. Matches frame's blobs to the last frame's contacts (those kept without a blob
+  /// included): every pair of (contact, blob) whose centroids are within
+  /// max(params.maxDistance, params.maxSpeed dt) cm, dt the time since the contact was last seen
+  /// (frame.time), is a candidate; candidates are taken globally nearest first, each contact and
+  /// blob at most once. Matched blobs continue their contact's id; unmatched blobs are new (fresh
+  /// id). An unmatched contact goes on where it was last seen, continuing with `missed` counting
+  /// up, for params.keepLost frames; then it is lifted and listed once, with its last blob,
+  /// after the current and kept contacts.
   ContactSet Step(const ContourFrame& frame);
 
   /// Forgets all contacts (the next frame's blobs are all new). Ids keep counting up.
@@ -45,8 +47,8 @@ class Tracker {
   };
 
   TrackingParams m_params;
-  std::vector<Contact> m_current;
-  double m_lastTime = 0.0;  // frame.time of the last Step, s
+  std::vector<Contact> m_current;  // on the table, and those kept after they were last seen
+  std::vector<double> m_seen;      // frame.time each of m_current was last seen, s
   IdCounter m_ids;
   std::vector<Candidate> m_candidates;  // scratch
 };

@@ -19,6 +19,9 @@ struct Contact {
   ContactId id = kNoId;
   ContactState state = ContactState::kNew;
   Blob blob;
+  /// frames the contact has gone on without a blob of its own (tracking.keep_lost), its blob
+  /// being the last one seen; for a lifted contact, the frames it went on so before it lifted
+  int missed = 0;
 };
 
 /// The output of the tracking stage for one frame: current contacts, then those lifted this frame.
@@ -36,6 +39,10 @@ struct TrackingParams {
   /// max(maxDistance, maxSpeed dt), so a slower camera (or a recording that repeats frames)
   /// reaches as far in time as a faster one
   double maxSpeed = 150.0;
+  /// frames a contact whose blob is gone continues where it was last seen before it is lifted
+  /// (0: lifted in the first frame without it): a blob that drops out for a frame or two, below
+  /// the threshold or min_area, keeps its id and its particles; a lift is reported this late
+  int keepLost = 3;
 };
 
 void Describe(TrackingParams& p, ParamVisitor& v);
