@@ -68,7 +68,8 @@ size_t BareSensingChain::Step(const cv::Mat& frame) {
     cv::threshold(m_gained, m_binary, p.threshold, 255, cv::THRESH_BINARY);
   }
   if (!m_kernel.empty()) cv::morphologyEx(m_binary, m_binary, cv::MORPH_OPEN, m_kernel);
-  cv::findContours(m_binary, m_contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  // the sensor's retrieval: every component's outer border, those inside another's hole too
+  cv::findContours(m_binary, m_contours, m_hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE);
   return m_contours.size();
 }
 

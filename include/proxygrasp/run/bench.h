@@ -38,6 +38,7 @@ class BareSensingChain {
   int m_highpassWidth = 0;  // box width of the high-pass, pixels, odd (0 = no high-pass)
   cv::Mat m_kernel;         // opening's structuring element (empty = no opening)
   cv::Mat m_diff, m_smooth, m_wide, m_high, m_gained, m_binary;
+  std::vector<cv::Vec4i> m_hierarchy;
   std::vector<std::vector<cv::Point>> m_contours;
 };
 
