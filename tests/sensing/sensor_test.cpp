@@ -525,6 +525,49 @@ TEST(Sensor, EveryStageImageIsKept) {
   EXPECT_EQ(binary.at<uint8_t>(10, 10), 0);
 }
 
+TEST(Sensor, StagesSwitchedOnAndOffLiveKeepEveryStageImageTrue) {
+  // A stage that changes nothing shows its input without a copy. Switching smoothing, the
+  // high-pass and the gain on and off between frames, in every combination and order, must never
+  // make one stage write over another's image: each stage image is checked against its
+  // definition from the one before, computed here with plain OpenCV calls.
+  SensingParams sp;
+  sp.backgroundLearning = 0.0;  // s: the background stays the one given
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const ContactShape shapes[] = {Circle({30.0, 20.0}, 0.8), Circle({12.0, 30.0}, 1.0)};
+  const cv::Mat frame = rig.camera.Render(shapes);
+  // the sensor's sizes: pixels per cm at the image centre
+  const double pxPerCm = 1.0 / rig.camera.model().CmPerPixel(Vec2(320.0, 240.0));
+  for (int combo = 0; combo < 24; ++combo) {
+    const int bits = combo % 8 ^ (combo / 8);   // every combination, in three orders
+    sp.smooth = (bits & 1) ? 0.1 : 0.0;         // cm
+    sp.highpassWidth = (bits & 2) ? 4.0 : 0.0;  // cm
+    sp.gain = (bits & 4) ? 2.0 : 1.0;
+    ASSERT_FALSE(rig.sensor.SetParams(sp));
+    ASSERT_TRUE(rig.sensor.Step(frame, combo, combo / 60.0));
+    auto stage = [&](SensingStage s) { return rig.sensor.StageImage(s).clone(); };
+    cv::Mat expect;
+    cv::subtract(frame, rig.camera.Background(), expect);
+    EXPECT_EQ(cv::norm(stage(SensingStage::kSubtracted), expect, cv::NORM_INF), 0.0) << bits;
+    const cv::Mat subtracted = expect.clone();
+    const double sigma = sp.smooth * pxPerCm;
+    if (sigma >= 0.3)
+      cv::GaussianBlur(subtracted, expect, cv::Size(), sigma, sigma, cv::BORDER_REPLICATE);
+    EXPECT_EQ(cv::norm(stage(SensingStage::kSmoothed), expect, cv::NORM_INF), 0.0) << bits;
+    const cv::Mat smoothed = expect.clone();
+    if (sp.highpassWidth > 0.0) {
+      const int w = static_cast<int>(std::lround(sp.highpassWidth * pxPerCm)) | 1;
+      cv::Mat wide;
+      cv::blur(smoothed, wide, cv::Size(w, w), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+      cv::min(wide, sp.highpassCap, wide);
+      cv::subtract(smoothed, wide, expect);
+    }
+    EXPECT_EQ(cv::norm(stage(SensingStage::kHighpass), expect, cv::NORM_INF), 0.0) << bits;
+    expect.convertTo(expect, CV_8UC1, sp.gain);
+    EXPECT_EQ(cv::norm(stage(SensingStage::kGained), expect, cv::NORM_INF), 0.0) << bits;
+  }
+}
+
 // a clear table frame with a wide, faint glow (a palm or arm hovering above an FTIR surface):
 // a Gaussian of `sigmaCm` and `level` grey above the synthetic background
 cv::Mat WithGlow(const Rig& rig, cv::Mat frame, Vec2 at, double sigmaCm, double level) {
@@ -591,6 +634,35 @@ TEST(Sensor, BackgroundFollowsTheFramesWhereNothingTouches) {
   const cv::Mat kept = after.clone();
   ASSERT_TRUE(rig.sensor.Step(rig.camera.Render(shapes), 151, 150 / 30.0));
   EXPECT_EQ(cv::norm(rig.sensor.Background(), kept, cv::NORM_INF), 0.0);
+}
+
+TEST(Sensor, EveryBandOfRowsLearnsWithTheSameTimeConstant) {
+  // The learning updates one of 8 bands of rows a frame, in turn, each with the rate for the
+  // time since it was last learned. The same frame, with the room light up by 20 grey, comes
+  // again and again: a pixel learned last at time s holds d (1 - e^(-s / T)) of its change d
+  // (the frame's pixel less the background's). At t = 1 s with T = 1 s and 30 frames/s, every
+  // band was learned within the last 8 frames, so s is in (1 - 7/30, 1] s: between
+  // d (1 - e^-0.767) = 0.54 d and d (1 - e^-1) = 0.63 d, plus 1 grey of rounding either way.
+  SensingParams sp;
+  sp.backgroundLearning = 1.0;  // s
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const cv::Mat before = rig.sensor.Background().clone();
+  cv::Mat frame = rig.camera.Render({});
+  frame += cv::Scalar(20);
+  for (int i = 0; i <= 30; ++i) ASSERT_TRUE(rig.sensor.Step(frame, i, i / 30.0));
+  const cv::Mat& after = rig.sensor.Background();
+  const double early = 1.0 - std::exp(-(1.0 - 7.0 / 30.0));
+  const double late = 1.0 - std::exp(-1.0);
+  // one row in every band of 60 rows
+  for (int row = 30; row < after.rows; row += 60) {
+    for (int col : {100, 320, 540}) {
+      const double d = frame.at<uint8_t>(row, col) - before.at<uint8_t>(row, col);
+      const double learned = after.at<uint8_t>(row, col) - before.at<uint8_t>(row, col);
+      EXPECT_GE(learned, early * d - 1.0) << "row " << row << " col " << col << " d " << d;
+      EXPECT_LE(learned, late * d + 1.0) << "row " << row << " col " << col << " d " << d;
+    }
+  }
 }
 
 TEST(Sensor, WarmupMakesAStaticHotSpotBackground) {

@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -84,7 +85,8 @@ class Sensor {
 
  private:
   void ExtractBlobs(std::vector<Blob>& blobs);
-  void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out) const;
+  // the border pixels moved onto the sub-pixel edge (a long border's thinned where straight)
+  void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out);
   void BuildTableMaps();
   void Filter();
   void LearnBackground(double time);
@@ -103,6 +105,11 @@ class Sensor {
   double m_learnedTime = 0.0;  // s of frames learned since the background was seeded
   bool m_warmup = false;       // the background is an estimate: warm it up
   bool m_haveTime = false;
+  // the learning updates one band of rows a frame, in turn (LearnBackground)
+  static constexpr int kLearnBands = 8;
+  std::array<double, kLearnBands> m_bandTime{};  // s, when each band was last learned
+  int m_nextBand = 0;
+  bool m_bandsStarted = false;
   cv::Mat m_captureSum;  // CV_32F, while averaging the first frames
   int m_captured = 0;    // frames averaged so far
   double m_lastThreshold = 0.0;
@@ -120,6 +127,7 @@ class Sensor {
   std::vector<std::vector<cv::Point>> m_contours;
   std::vector<cv::Vec4i> m_hierarchy;
   std::vector<Vec2> m_refined;
+  std::vector<int> m_keep;  // the border pixels RefineToEdge keeps
 
   // table image maps (built on first request)
   cv::Mat m_tableMapX, m_tableMapY;
