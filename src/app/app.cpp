@@ -199,6 +199,7 @@ struct App::Impl {
   // frame timing
   Clock::time_point lastTick = Clock::now();
   double fps = 0.0;
+  std::vector<double> tickWorkMs;  // with options.timing
 
   ~Impl();
   MaybeError OpenWindow();
@@ -255,6 +256,11 @@ void App::Impl::Say(const std::string& text) {
 MaybeError App::Impl::OpenWindow() {
   // no GPU is assumed: the software renderer works on every display, Xvfb included
   SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
+  // and its picture goes straight to the window (XShm on X11): SDL would otherwise upload it to
+  // an OpenGL texture each frame, which without a GPU is Mesa's software GL drawing it again
+  // (12 ms of a 1280x960 frame under Xvfb, against 5 ms straight; docs/performance.md). The
+  // environment variable SDL_FRAMEBUFFER_ACCELERATION still decides where it is set.
+  SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
   if (SDL_Init(SDL_INIT_VIDEO) != 0)
     return MakeError({}, std::string("cannot open a window: ") + SDL_GetError());
   sdlUp = true;
@@ -934,9 +940,10 @@ bool App::Tick() {
   SDL_RenderPresent(a.renderer);
 
   // pace to the level's frame rate, and measure the loop
+  const double spent = std::chrono::duration<double>(Clock::now() - start).count();
+  if (a.options.timing) a.tickWorkMs.push_back(1000.0 * spent);
   if (a.options.realtime) {
     const double period = 1.0 / a.params.physics.frameRate;
-    const double spent = std::chrono::duration<double>(Clock::now() - start).count();
     if (spent < period) SDL_Delay(static_cast<Uint32>((period - spent) * 1000.0));
   }
   const Clock::time_point end = Clock::now();
@@ -1003,6 +1010,9 @@ bool App::noInput() const {
 }
 const Result<std::string>& App::screenshotStatus() const {
   return m_impl->screenshot;
+}
+const std::vector<double>& App::tickWorkMs() const {
+  return m_impl->tickWorkMs;
 }
 InputKind App::input() const {
   return m_impl->input;

@@ -10,9 +10,13 @@
 
 #include <SDL.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <vector>
 
 namespace pg {
 
@@ -31,7 +35,33 @@ struct PlayArgs {
   std::string show;
   std::string tuioOut;  // HOST:PORT or file:PATH
   bool tuioCursors = false;
+  bool timing = false;
 };
+
+// `play --timing`: the work per frame against the frame period, from the frames after the first
+// second (the window opening and the first uploads are not the loop)
+void PrintTiming(std::vector<double> ms, double frameRate) {
+  const size_t skip = static_cast<size_t>(std::max(0.0, frameRate));
+  if (ms.size() <= skip) {
+    std::cout << "timing: " << ms.size() << " frames, too few to time (the first " << skip
+              << " are skipped)\n";
+    return;
+  }
+  ms.erase(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(skip));
+  std::sort(ms.begin(), ms.end());
+  // nearest rank
+  auto rank = [&](double q) {
+    const size_t i = static_cast<size_t>(std::ceil(q * static_cast<double>(ms.size())));
+    return ms[std::min(ms.size(), std::max<size_t>(i, 1)) - 1];
+  };
+  const double period = 1000.0 / frameRate;
+  const size_t over =
+      static_cast<size_t>(ms.end() - std::upper_bound(ms.begin(), ms.end(), period));
+  std::printf(
+      "timing: %zu frames after the first %zu, work per frame median %.2f ms, p99 %.2f ms, "
+      "max %.2f ms; %zu over the %.1f ms of a frame at %.0f Hz\n",
+      ms.size(), skip, rank(0.5), rank(0.99), ms.back(), over, period, frameRate);
+}
 
 // the default level from the working directory, or from the source tree the executable was
 // built in (build/<preset>/proxygrasp)
@@ -151,6 +181,7 @@ int Play(const PlayArgs& args) {
     return kExitBadInput;
   }
   options.windowSize = {w, h};
+  options.timing = a.timing;
 
   App app;
   if (MaybeError s = app.Open(options)) {
@@ -161,6 +192,7 @@ int Play(const PlayArgs& args) {
     if (!a.screenshot.empty() && i == a.frames - 1) app.RequestScreenshot(a.screenshot);
     if (!app.Tick()) break;
   }
+  if (a.timing) PrintTiming(app.tickWorkMs(), app.level().params.physics.frameRate);
   if (!a.screenshot.empty()) {
     const Result<std::string>& shot = app.screenshotStatus();
     if (!shot.ok()) {
@@ -200,6 +232,9 @@ void AddPlayCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--tuio-out", args.tuioOut,
                   "Also send each frame's contacts as TUIO 2.0 to HOST:PORT over UDP, or record "
                   "them to file:PATH (touchlib XML; time tags are the frames' times)");
+  cmd->add_flag("--timing", args.timing,
+                "At the end, print the work per frame (median, p99, max) against the level's "
+                "frame period");
   cmd->add_flag("--tuio-cursors", args.tuioCursors,
                 "With --tuio-out, also send TUIO 1.1 /tuio/2Dcur cursors for older clients")
       ->needs("--tuio-out");

@@ -41,6 +41,32 @@ std::string TempDir(const std::string& name) {
   return dir.string();
 }
 
+TEST(PlayCommand, TimingReportsTheFramesAfterTheFirstSecondAgainstTheFramePeriod) {
+  // box_goal runs at 60 frames/s: of 90 frames, the first 60 (one second) are not timed, and the
+  // line compares the other 30 with 1000 / 60 = 16.7 ms
+  if (!std::filesystem::exists(test::kXvfb)) GTEST_SKIP() << "Xvfb is not installed";
+  test::Xvfb xvfb;
+  ASSERT_TRUE(xvfb.Start());
+  const std::string dir = TempDir("timing");
+  const test::CommandResult r = RunWithEnv(
+      "-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
+      "play " + kLevel + " --input script --frames 90 --timing --size 640x480 --out " + dir);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("timing: 30 frames after the first 60, work per frame median "),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find(" over the 16.7 ms of a frame at 60 Hz"), std::string::npos) << r.output;
+
+  // too few frames to time says so
+  const test::CommandResult few = RunWithEnv(
+      "-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
+      "play " + kLevel + " --input script --frames 20 --timing --size 640x480 --out " + dir);
+  ASSERT_EQ(few.exitCode, 0) << few.output;
+  EXPECT_NE(few.output.find("timing: 20 frames, too few to time (the first 60 are skipped)"),
+            std::string::npos)
+      << few.output;
+}
+
 TEST(PlayCommand, ScreenshotShowsObjectsParticlesAndTheGoal) {
   if (!std::filesystem::exists(test::kXvfb)) GTEST_SKIP() << "Xvfb is not installed";
   test::Xvfb xvfb;

@@ -38,8 +38,10 @@ struct AppOptions {
   cv::Size windowSize{1280, 960};  ///< window size when not full screen, px
   std::string outDir = "out";      ///< where S screenshots and V recordings go
   bool realtime = true;            ///< pace frames at the level's frame rate
-  double reloadInterval = 0.25;    ///< s between checks of the level files for changes
-  ViewOptions view;                ///< the overlays shown at start
+  /// Keep the work time of every frame (tickWorkMs), for `play --timing`.
+  bool timing = false;
+  double reloadInterval = 0.25;  ///< s between checks of the level files for changes
+  ViewOptions view;              ///< the overlays shown at start
   /// "HOST:PORT" (UDP) or "file:PATH" (a touchlib XML recording): every stepped frame's contacts
   /// also go out as TUIO (run/tuio_output.h); "" sends nothing.
   std::string tuioOut;
@@ -104,6 +106,9 @@ class App {
   bool noInput() const;
   /// The last screenshot's path, or its error.
   const Result<std::string>& screenshotStatus() const;
+  /// With AppOptions::timing, the wall time of each Tick's work (events, the pipeline step,
+  /// drawing and presenting; not the wait that paces the loop), ms.
+  const std::vector<double>& tickWorkMs() const;
   /// What drives the pipeline now.
   InputKind input() const;
   bool paused() const;
