@@ -156,6 +156,7 @@ struct App::Impl {
   TableView view;
   ViewOptions viewOptions;
   cv::Mat picture;
+  cv::Mat picture32;  // the picture as 32-bit B, G, R, X for the window
   std::string loadError;
   std::string runError;    // the pipeline's or the input's last error
   std::string message;     // transient status
@@ -907,13 +908,16 @@ bool App::Tick() {
   }
 
   // upload it, then the UI on top
+  // as 32-bit B, G, R, X pixels, the window's own layout on X11, so that the software renderer
+  // copies them instead of converting each pixel from 24 bits (1.8 ms a 1280x960 frame)
   if (!a.texture || a.textureSize != a.outputSize) {
     if (a.texture) SDL_DestroyTexture(a.texture);
-    a.texture = SDL_CreateTexture(a.renderer, SDL_PIXELFORMAT_BGR24, SDL_TEXTUREACCESS_STREAMING,
+    a.texture = SDL_CreateTexture(a.renderer, SDL_PIXELFORMAT_RGB888, SDL_TEXTUREACCESS_STREAMING,
                                   a.outputSize.width, a.outputSize.height);
     a.textureSize = a.outputSize;
   }
-  SDL_UpdateTexture(a.texture, nullptr, a.picture.data, static_cast<int>(a.picture.step));
+  cv::cvtColor(a.picture, a.picture32, cv::COLOR_BGR2BGRA);
+  SDL_UpdateTexture(a.texture, nullptr, a.picture32.data, static_cast<int>(a.picture32.step));
   SDL_RenderClear(a.renderer);
   SDL_RenderCopy(a.renderer, a.texture, nullptr, nullptr);
   ImGui_ImplSDLRenderer_NewFrame();

@@ -38,9 +38,24 @@ struct PlayArgs {
   bool timing = false;
 };
 
+// what each frame carried, for `play --timing`
+struct FrameLoad {
+  std::vector<int> contacts;
+  std::vector<int> particles;
+};
+
+// the mean of values[skip..]
+double MeanAfter(const std::vector<int>& values, size_t skip) {
+  if (values.size() <= skip) return 0.0;
+  double sum = 0.0;
+  for (size_t i = skip; i < values.size(); ++i) sum += values[i];
+  return sum / static_cast<double>(values.size() - skip);
+}
+
 // `play --timing`: the work per frame against the frame period, from the frames after the first
-// second (the window opening and the first uploads are not the loop)
-void PrintTiming(std::vector<double> ms, double frameRate) {
+// second (the window opening and the first uploads are not the loop), and what the frames
+// carried (a driven mouse hand shows as one contact and its particles)
+void PrintTiming(std::vector<double> ms, const FrameLoad& load, double frameRate) {
   const size_t skip = static_cast<size_t>(std::max(0.0, frameRate));
   if (ms.size() <= skip) {
     std::cout << "timing: " << ms.size() << " frames, too few to time (the first " << skip
@@ -59,8 +74,10 @@ void PrintTiming(std::vector<double> ms, double frameRate) {
       static_cast<size_t>(ms.end() - std::upper_bound(ms.begin(), ms.end(), period));
   std::printf(
       "timing: %zu frames after the first %zu, work per frame median %.2f ms, p99 %.2f ms, "
-      "max %.2f ms; %zu over the %.1f ms of a frame at %.0f Hz\n",
-      ms.size(), skip, rank(0.5), rank(0.99), ms.back(), over, period, frameRate);
+      "max %.2f ms; %zu over the %.1f ms of a frame at %.0f Hz; per frame %.2f contacts, %.0f "
+      "particles\n",
+      ms.size(), skip, rank(0.5), rank(0.99), ms.back(), over, period, frameRate,
+      MeanAfter(load.contacts, skip), MeanAfter(load.particles, skip));
 }
 
 // the default level from the working directory, or from the source tree the executable was
@@ -172,8 +189,9 @@ int Play(const PlayArgs& args) {
     std::cerr << "proxygrasp play: --show: " << s->Format() << "\n";
     return kExitBadInput;
   }
-  // a fixed number of frames runs as fast as it can (tests, screenshots)
-  options.realtime = a.frames < 0;
+  // a fixed number of frames runs as fast as it can (tests, screenshots), unless it is timed: the
+  // loop being timed is the one a user plays, paced at the level's frame rate
+  options.realtime = a.frames < 0 || a.timing;
   int w = 0;
   int h = 0;
   if (std::sscanf(a.size.c_str(), "%dx%d", &w, &h) != 2 || w < 64 || h < 64) {
@@ -184,6 +202,7 @@ int Play(const PlayArgs& args) {
   options.timing = a.timing;
 
   App app;
+  FrameLoad load;  // with --timing
   if (MaybeError s = app.Open(options)) {
     std::cerr << "proxygrasp play: " << s->Format() << "\n";
     return kExitBadInput;
@@ -191,8 +210,12 @@ int Play(const PlayArgs& args) {
   for (int64_t i = 0; a.frames < 0 || i < a.frames; ++i) {
     if (!a.screenshot.empty() && i == a.frames - 1) app.RequestScreenshot(a.screenshot);
     if (!app.Tick()) break;
+    if (a.timing) {
+      load.contacts.push_back(app.simulation().stats().contacts);
+      load.particles.push_back(app.simulation().stats().particles);
+    }
   }
-  if (a.timing) PrintTiming(app.tickWorkMs(), app.level().params.physics.frameRate);
+  if (a.timing) PrintTiming(app.tickWorkMs(), load, app.level().params.physics.frameRate);
   if (!a.screenshot.empty()) {
     const Result<std::string>& shot = app.screenshotStatus();
     if (!shot.ok()) {
@@ -234,7 +257,7 @@ void AddPlayCommand(CLI::App& app, int& exitCode) {
                   "them to file:PATH (touchlib XML; time tags are the frames' times)");
   cmd->add_flag("--timing", args.timing,
                 "At the end, print the work per frame (median, p99, max) against the level's "
-                "frame period");
+                "frame period; the loop is paced at the level's frame rate even with --frames");
   cmd->add_flag("--tuio-cursors", args.tuioCursors,
                 "With --tuio-out, also send TUIO 1.1 /tuio/2Dcur cursors for older clients")
       ->needs("--tuio-out");

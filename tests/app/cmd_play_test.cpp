@@ -43,7 +43,7 @@ std::string TempDir(const std::string& name) {
 
 TEST(PlayCommand, TimingReportsTheFramesAfterTheFirstSecondAgainstTheFramePeriod) {
   // box_goal runs at 60 frames/s: of 90 frames, the first 60 (one second) are not timed, and the
-  // line compares the other 30 with 1000 / 60 = 16.7 ms
+  // line compares the other 30 with 1000 / 60 = 16.7 ms and says what they carried
   if (!std::filesystem::exists(test::kXvfb)) GTEST_SKIP() << "Xvfb is not installed";
   test::Xvfb xvfb;
   ASSERT_TRUE(xvfb.Start());
@@ -56,6 +56,8 @@ TEST(PlayCommand, TimingReportsTheFramesAfterTheFirstSecondAgainstTheFramePeriod
             std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find(" over the 16.7 ms of a frame at 60 Hz"), std::string::npos) << r.output;
+  // the level's one scripted fingertip is down in every frame
+  EXPECT_NE(r.output.find("; per frame 1.00 contacts, "), std::string::npos) << r.output;
 
   // too few frames to time says so
   const test::CommandResult few = RunWithEnv(
