@@ -48,9 +48,12 @@ TEST(PlayCommand, TimingReportsTheFramesAfterTheFirstSecondAgainstTheFramePeriod
   test::Xvfb xvfb;
   ASSERT_TRUE(xvfb.Start());
   const std::string dir = TempDir("timing");
-  const test::CommandResult r = RunWithEnv(
-      "-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
-      "play " + kLevel + " --input script --frames 90 --timing --size 640x480 --out " + dir);
+  auto playTimed = [&](int frames) {
+    return RunWithEnv("-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
+                      "play " + kLevel + " --input script --frames " + std::to_string(frames) +
+                          " --timing --size 640x480 --out " + dir);
+  };
+  const test::CommandResult r = playTimed(90);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("timing: 30 frames after the first 60, work per frame median "),
             std::string::npos)
@@ -60,9 +63,7 @@ TEST(PlayCommand, TimingReportsTheFramesAfterTheFirstSecondAgainstTheFramePeriod
   EXPECT_NE(r.output.find("; per frame 1.00 contacts, "), std::string::npos) << r.output;
 
   // too few frames to time says so
-  const test::CommandResult few = RunWithEnv(
-      "-u WAYLAND_DISPLAY -u SDL_VIDEODRIVER DISPLAY=" + xvfb.display(),
-      "play " + kLevel + " --input script --frames 20 --timing --size 640x480 --out " + dir);
+  const test::CommandResult few = playTimed(20);
   ASSERT_EQ(few.exitCode, 0) << few.output;
   EXPECT_NE(few.output.find("timing: 20 frames, too few to time (the first 60 are skipped)"),
             std::string::npos)
