@@ -18,7 +18,6 @@ std::string SizeText(cv::Size s) {
   return std::to_string(s.width) + "x" + std::to_string(s.height);
 }
 
-// bilinear sample of an 8-bit image at a sub-pixel position, clamped to the border
 // Sample without the clamping, for a point with x in [0, cols - 2] and y in [0, rows - 2], in
 // float (a 640 px image's coordinates to 1/16,000 px).
 inline float SampleInterior(const uint8_t* data, size_t step, float x, float y) {
@@ -37,6 +36,7 @@ inline int WrapNear(int i, int n) {
   return i < 0 ? i + n : (i >= n ? i - n : i);
 }
 
+// bilinear sample of an 8-bit image at a sub-pixel position, clamped to the border
 inline float Sample(const cv::Mat& img, double x, double y) {
   const int w = img.cols, h = img.rows;
   x = std::clamp(x, 0.0, w - 1.0);
@@ -67,7 +67,6 @@ MaybeError CheckSensingParams(const SensingParams& params) {
 // hand when the background is estimated, 8-bit grey
 constexpr double kCoveredMargin = 30.0;
 
-// the structuring element of the clean-up opening (empty for none)
 // Gives `image` a buffer of its own if it shares one of `upstream`'s (a stage that changed
 // nothing showed its input), so that writing it leaves them alone.
 void Unshare(cv::Mat& image, std::initializer_list<const cv::Mat*> upstream) {
@@ -79,6 +78,7 @@ void Unshare(cv::Mat& image, std::initializer_list<const cv::Mat*> upstream) {
   }
 }
 
+// the structuring element of the clean-up opening (empty for none)
 cv::Mat OpeningKernel(int radius) {
   if (radius <= 0) return cv::Mat();
   return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
@@ -354,14 +354,18 @@ void Sensor::LearnBackground(double time) {
   m_learnedTime += dt;
   const double warmup = m_params.backgroundWarmup;
   if (m_warmup && m_learnedTime <= warmup) {
-    // an estimated background follows the frames everywhere for a while (time constant a third
-    // of the warm-up): whatever is static from the start becomes background
+    // warm-up: the background converges on the frames everywhere (what is static from the start,
+    // like an illuminator's hot spot, is background; a touch there heals once lifted)
     const double alpha = 1.0 - std::exp(-dt / (warmup / 3.0));
     cv::accumulateWeighted(m_grey, m_learned, alpha);
     m_learned.convertTo(m_background, CV_8UC1);
     return;
   }
-  if (m_params.backgroundLearning <= 0.0) return;
+  if (m_params.backgroundLearning <= 0.0) {
+    // learning is off: when it comes back on, the time it was off is not learned
+    m_bandsStarted = false;
+    return;
+  }
   if (!m_bandsStarted) {
     // every band was last learned at the previous frame
     m_bandTime.fill(time - dt);

@@ -665,6 +665,41 @@ TEST(Sensor, EveryBandOfRowsLearnsWithTheSameTimeConstant) {
   }
 }
 
+TEST(Sensor, TimeWithLearningOffIsNotLearnedWhenItComesBackOn) {
+  // Learning (T = 1 s) runs for a second, is switched off for 10 s while the room light goes up
+  // by 20 grey, then comes back on for 8 frames at 30 frames/s (every band once). Only those
+  // 8 frames are learned: at most d (1 - e^(-8/30)) = 0.23 d of a pixel's change d, plus 1 grey
+  // of rounding. Had the bands kept their times from before, each would take the 10 s at once
+  // (1 - e^-10, all of it).
+  SensingParams sp;
+  sp.backgroundLearning = 1.0;  // s
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const cv::Mat clear = rig.camera.Render({});
+  cv::Mat brighter = clear.clone();
+  brighter += cv::Scalar(20);
+  int index = 0;
+  for (int i = 0; i <= 30; ++i, ++index) ASSERT_TRUE(rig.sensor.Step(clear, index, i / 30.0));
+  const cv::Mat learnedClear = rig.sensor.Background().clone();
+  sp.backgroundLearning = 0.0;
+  ASSERT_FALSE(rig.sensor.SetParams(sp));
+  for (int i = 31; i <= 330; ++i, ++index) ASSERT_TRUE(rig.sensor.Step(brighter, index, i / 30.0));
+  EXPECT_EQ(cv::norm(rig.sensor.Background(), learnedClear, cv::NORM_INF), 0.0);
+  sp.backgroundLearning = 1.0;
+  ASSERT_FALSE(rig.sensor.SetParams(sp));
+  for (int i = 331; i <= 338; ++i, ++index) ASSERT_TRUE(rig.sensor.Step(brighter, index, i / 30.0));
+  const cv::Mat& after = rig.sensor.Background();
+  const double most = 1.0 - std::exp(-8.0 / 30.0);
+  for (int row = 30; row < after.rows; row += 60) {
+    for (int col : {100, 320, 540}) {
+      const double d = brighter.at<uint8_t>(row, col) - learnedClear.at<uint8_t>(row, col);
+      const double learned = after.at<uint8_t>(row, col) - learnedClear.at<uint8_t>(row, col);
+      EXPECT_LE(learned, most * d + 1.0) << "row " << row << " col " << col << " d " << d;
+      EXPECT_GE(learned, 0.0) << "row " << row << " col " << col;
+    }
+  }
+}
+
 TEST(Sensor, WarmupMakesAStaticHotSpotBackground) {
   // no background given: estimated from the first frame, which shows an illuminator's hot spot
   // (a 3 cm deviation glow 150 grey bright, wider than the 32 px blocks of the estimate); after
