@@ -4,6 +4,7 @@
 
 #include "proxygrasp/app/app.h"
 #include "proxygrasp/app/video.h"
+#include "proxygrasp/run/bench.h"
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/runner.h"
 #include "proxygrasp/run/tuio_output.h"
@@ -11,7 +12,6 @@
 #include <SDL.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -63,20 +63,15 @@ void PrintTiming(std::vector<double> ms, const FrameLoad& load, double frameRate
     return;
   }
   ms.erase(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(skip));
-  std::sort(ms.begin(), ms.end());
-  // nearest rank
-  auto rank = [&](double q) {
-    const size_t i = static_cast<size_t>(std::ceil(q * static_cast<double>(ms.size())));
-    return ms[std::min(ms.size(), std::max<size_t>(i, 1)) - 1];
-  };
   const double period = 1000.0 / frameRate;
-  const size_t over =
-      static_cast<size_t>(ms.end() - std::upper_bound(ms.begin(), ms.end(), period));
+  const auto over = static_cast<size_t>(
+      std::count_if(ms.begin(), ms.end(), [period](double m) { return m > period; }));
   std::printf(
       "timing: %zu frames after the first %zu, work per frame median %.2f ms, p99 %.2f ms, "
       "max %.2f ms; %zu over the %.1f ms of a frame at %.0f Hz; per frame %.2f contacts, %.0f "
       "particles\n",
-      ms.size(), skip, rank(0.5), rank(0.99), ms.back(), over, period, frameRate,
+      ms.size(), skip, Percentile(ms, 0.5), Percentile(ms, 0.99),
+      *std::max_element(ms.begin(), ms.end()), over, period, frameRate,
       MeanAfter(load.contacts, skip), MeanAfter(load.particles, skip));
 }
 

@@ -73,6 +73,13 @@ size_t BareSensingChain::Step(const cv::Mat& frame) {
   return m_contours.size();
 }
 
+double Percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const size_t rank = static_cast<size_t>(std::ceil(p * static_cast<double>(values.size())));
+  return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
+}
+
 namespace {
 
 // frames of a clear table before the contacts come down, not timed: the sensor's first frame
@@ -157,14 +164,6 @@ void SceneShapes(const SceneDef& def, int64_t frame, double frameRate,
       shapes.push_back(s);
     }
   }
-}
-
-// nearest-rank percentile of the values, p in (0, 1]; 0 for none
-double Percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const size_t rank = static_cast<size_t>(std::ceil(p * static_cast<double>(values.size())));
-  return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
 }
 
 BenchFigure Figure(const std::string& name, const std::vector<double>& ms) {

@@ -30,12 +30,6 @@ inline float SampleInterior(const uint8_t* data, size_t step, float x, float y) 
   return top + (bottom - top) * fy;
 }
 
-// i wrapped into [0, n) for i in [-n, 2n): an index a few steps from one in range, without the
-// division of WrapIndex
-inline int WrapNear(int i, int n) {
-  return i < 0 ? i + n : (i >= n ? i - n : i);
-}
-
 // bilinear sample of an 8-bit image at a sub-pixel position, clamped to the border
 inline float Sample(const cv::Mat& img, double x, double y) {
   const int w = img.cols, h = img.rows;
@@ -477,8 +471,8 @@ void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2
   for (int i = 0; i < n; ++i) {
     bool keep = n < kThinFrom || i % 2 == 0 || i == n - 1;
     if (!keep) {
-      const cv::Point& a = pixels[WrapNear(i - 3, n)];
-      const cv::Point& c = pixels[WrapNear(i + 3, n)];
+      const cv::Point& a = pixels[WrapIndex(i - 3, n)];
+      const cv::Point& c = pixels[WrapIndex(i + 3, n)];
       const cv::Point& b = pixels[i];
       const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - b.x, vy = c.y - b.y;
       const double cross = ux * vy - uy * vx;
@@ -508,8 +502,8 @@ void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2
 
   for (int k = 0; k < kept; ++k) {
     const int i = m_keep[k];
-    const cv::Point& a = pixels[WrapNear(i - reach, n)];
-    const cv::Point& b = pixels[WrapNear(i + reach, n)];
+    const cv::Point& a = pixels[WrapIndex(i - reach, n)];
+    const cv::Point& b = pixels[WrapIndex(i + reach, n)];
     Vec2 normal(sign * (b.y - a.y), -sign * (b.x - a.x));
     const double len = normal.norm();
     if (len < 1e-9) continue;

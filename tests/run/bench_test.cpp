@@ -135,6 +135,16 @@ void ExpectWellFormed(const BenchReport& report) {
             1u);
 }
 
+TEST(Bench, PercentileIsTheNearestRank) {
+  // nearest rank: the ceil(p n)-th smallest of n values, whatever their order
+  const std::vector<double> values = {5.0, 1.0, 4.0, 2.0, 3.0};
+  EXPECT_EQ(Percentile(values, 0.5), 3.0);   // ceil(2.5) = 3rd
+  EXPECT_EQ(Percentile(values, 0.99), 5.0);  // ceil(4.95) = 5th
+  EXPECT_EQ(Percentile(values, 0.2), 1.0);   // ceil(1.0) = 1st
+  EXPECT_EQ(Percentile(values, 0.01), 1.0);  // ceil(0.05) = 1st
+  EXPECT_EQ(Percentile({}, 0.5), 0.0);
+}
+
 TEST(Bench, SmallRunGivesEveryFigureAndBaseline) {
   BenchOptions options;
   options.frames = 5;

@@ -57,6 +57,9 @@ struct BenchOptions {
   TimerClock clock = TimerClock::kThreadCpu;
 };
 
+/// The nearest-rank percentile of the values, p in (0, 1]; 0 for none.
+double Percentile(std::vector<double> values, double p);
+
 /// The median and 99th percentile (nearest rank) of a per-frame time, ms.
 struct BenchFigure {
   std::string name;
