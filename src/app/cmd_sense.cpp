@@ -118,7 +118,7 @@ bool WritePreview(const Simulation& sim, const std::string& path) {
 
 int RunSense(const SenseOptions& o) {
   const char* const me = "proxygrasp sense: ";
-  // parameters: defaults or the level's, then --set, then --calibration
+  // parameters: defaults or the level's, --calibration, its tuned sensing values, then --set
   Result<SenseInput> opened = OpenSenseInput(o.input);
   if (!opened) {
     std::cerr << me << opened.error().Format() << "\n";
@@ -126,11 +126,11 @@ int RunSense(const SenseOptions& o) {
   }
   SenseInput& in = opened.value();
   LevelParams params = in.level.params;
+  if (!o.calibration.empty()) params.sensing.calibration = o.calibration;
   if (MaybeError s = ApplyOverrides(params, o.sets)) {
     std::cerr << me << s->Format() << "\n";
     return kExitBadInput;
   }
-  if (!o.calibration.empty()) params.sensing.calibration = o.calibration;
 
   // the TUIO output, before any frame: a bad spec stops the run before it starts
   std::unique_ptr<TuioOutput> output;

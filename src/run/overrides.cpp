@@ -1,5 +1,7 @@
 #include "proxygrasp/run/overrides.h"
 
+#include "proxygrasp/sensing/calibration.h"
+
 #include <cassert>
 
 namespace pg {
@@ -47,12 +49,43 @@ MaybeError SetLevelParam(Level& level, const std::string& dottedKey, const std::
   return std::nullopt;
 }
 
+MaybeError ApplyCalibrationSensing(LevelParams& params) {
+  const std::string path = params.sensing.calibration;
+  if (path.empty()) return std::nullopt;
+  Result<Calibration> calibration = LoadCalibration(path);
+  if (!calibration) return calibration.error();
+  LevelParams probe = params;
+  for (const auto& [key, text] : calibration.value().sensing) {
+    if (key == "calibration")
+      return MakeError({path}, "field 'sensing.calibration': a calibration cannot name another");
+    if (MaybeError s = SetParam(probe, "sensing." + key, text))
+      return MakeError({path}, "field 'sensing." + key + "': " + s->message);
+  }
+  params = std::move(probe);
+  return std::nullopt;
+}
+
 MaybeError ApplyOverrides(Level& level, const std::vector<std::string>& arguments) {
-  return ApplyAll(level, arguments, SetLevelParam);
+  Level probe = level;
+  if (MaybeError s = ApplyAll(probe, arguments, SetLevelParam)) return s;
+  // the calibration's sensing values, in the level and in every variant (which may name another
+  // calibration), then --set again so that it wins
+  if (MaybeError s = ApplyCalibrationSensing(probe.params)) return s;
+  for (Variant& v : probe.variants) {
+    if (MaybeError s = ApplyCalibrationSensing(v.params)) return s;
+  }
+  if (MaybeError s = ApplyAll(probe, arguments, SetLevelParam)) return s;
+  level = std::move(probe);
+  return std::nullopt;
 }
 
 MaybeError ApplyOverrides(LevelParams& params, const std::vector<std::string>& arguments) {
-  return ApplyAll(params, arguments, SetParam);
+  LevelParams probe = params;
+  if (MaybeError s = ApplyAll(probe, arguments, SetParam)) return s;
+  if (MaybeError s = ApplyCalibrationSensing(probe)) return s;
+  if (MaybeError s = ApplyAll(probe, arguments, SetParam)) return s;
+  params = std::move(probe);
+  return std::nullopt;
 }
 
 }  // namespace pg

@@ -3,6 +3,8 @@
 #include <opencv2/core/persistence.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -170,6 +172,23 @@ MaybeError SaveCalibration(const std::string& path, const Calibration& c) {
     fs << "camera_to_table" << cv::Mat(c.cameraToTable);
     fs << "table_to_display" << cv::Mat(c.tableToDisplay);
     if (!c.background.empty()) fs << "background" << c.background;
+    if (!c.sensing.empty()) {
+      // numbers as numbers, quoted TOML strings as strings
+      fs << "sensing"
+         << "{";
+      for (const auto& [key, text] : c.sensing) {
+        fs << key;
+        char* end = nullptr;
+        const double number = std::strtod(text.c_str(), &end);
+        if (!text.empty() && end == text.c_str() + text.size())
+          fs << number;
+        else if (text.size() >= 2 && text.front() == '"' && text.back() == '"')
+          fs << text.substr(1, text.size() - 2);
+        else
+          fs << text;
+      }
+      fs << "}";
+    }
     fs.release();
   } catch (const cv::Exception& e) {
     return MakeError({path}, std::string("cannot write calibration file: ") + e.what());
@@ -268,6 +287,26 @@ Result<Calibration> LoadCalibration(const std::string& path) {
     }
     if (c.background.empty())
       return MakeError({path}, "field 'background' is not an OpenCV matrix (!!opencv-matrix)");
+  }
+
+  // sensing is optional: a map of [sensing] keys to numbers or names (checked where applied)
+  const cv::FileNode sensing = fs["sensing"];
+  if (!sensing.empty() && !sensing.isNone()) {
+    if (!sensing.isMap())
+      return MakeError({path}, "field 'sensing' must be a map of sensing keys to values");
+    for (cv::FileNodeIterator it = sensing.begin(); it != sensing.end(); ++it) {
+      const cv::FileNode value = *it;
+      const std::string key = value.name();
+      if (value.isInt() || value.isReal()) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.17g", static_cast<double>(value));
+        c.sensing.emplace_back(key, text);
+      } else if (value.isString()) {
+        c.sensing.emplace_back(key, "\"" + static_cast<std::string>(value) + "\"");
+      } else {
+        return MakeError({path}, "field 'sensing." + key + "' must be a number or a name");
+      }
+    }
   }
 
   Result<CameraModel> model = ModelFromCalibration(c, path);

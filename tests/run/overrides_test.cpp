@@ -1,5 +1,7 @@
 #include "proxygrasp/run/overrides.h"
 
+#include "proxygrasp/sensing/calibration.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -60,6 +62,46 @@ TEST(Overrides, ApplyAllOrNothingAndNameTheBadArgument) {
   EXPECT_THAT(unknown->Format(), HasSubstr("--set physics.substep=2: "));
   EXPECT_FALSE(ApplyOverrides(params, {"sensing.threshold=50"}));
   EXPECT_EQ(params.sensing.threshold, 50);
+}
+
+TEST(Overrides, ACalibrationsTunedValuesWinOverTheLevelAndSetWinsOverThem) {
+  Calibration c = LinearCalibration({640, 480}, TableParams());
+  c.sensing = {{"gain", "8.5"}, {"threshold", "40"}};
+  const std::string path = ::testing::TempDir() + "/overrides_tuned.yaml";
+  ASSERT_FALSE(SaveCalibration(path, c));
+  LevelParams params;
+  params.sensing.gain = 2.0;  // as a level file would set it
+  params.sensing.calibration = path;
+  ASSERT_FALSE(ApplyOverrides(params, {"sensing.threshold=50"}));
+  EXPECT_EQ(params.sensing.gain, 8.5);
+  EXPECT_EQ(params.sensing.threshold, 50);
+  // --set may name the calibration itself
+  LevelParams other;
+  ASSERT_FALSE(ApplyOverrides(other, {"sensing.calibration=\"" + path + "\""}));
+  EXPECT_EQ(other.sensing.gain, 8.5);
+  EXPECT_EQ(other.sensing.threshold, 40);
+}
+
+TEST(Overrides, ABadTunedValueNamesTheCalibrationFileAndKeyAndChangesNothing) {
+  Calibration c = LinearCalibration({640, 480}, TableParams());
+  c.sensing = {{"gain", "8.5"}, {"gian", "2"}};
+  const std::string path = ::testing::TempDir() + "/overrides_bad.yaml";
+  ASSERT_FALSE(SaveCalibration(path, c));
+  LevelParams params;
+  params.sensing.calibration = path;
+  MaybeError s = ApplyOverrides(params, {});
+  ASSERT_TRUE(s);
+  EXPECT_THAT(s->Format(), HasSubstr(path + ": field 'sensing.gian'"));
+  EXPECT_EQ(params.sensing.gain, 1.0);
+  c.sensing = {{"gain", "900"}};
+  ASSERT_FALSE(SaveCalibration(path, c));
+  s = ApplyCalibrationSensing(params);
+  ASSERT_TRUE(s);
+  EXPECT_THAT(s->Format(), HasSubstr("field 'sensing.gain'"));
+  params.sensing.calibration = ::testing::TempDir() + "/no_such_calibration.yaml";
+  s = ApplyCalibrationSensing(params);
+  ASSERT_TRUE(s);
+  EXPECT_THAT(s->Format(), HasSubstr("calibration file not found"));
 }
 
 }  // namespace

@@ -88,6 +88,39 @@ TEST(Calibration, SaveLoadRoundTrip) {
   EXPECT_EQ(back.value().background.at<uint8_t>(100, 100), 37);
 }
 
+TEST(Calibration, TunedSensingValuesRoundTripInOrder) {
+  Calibration c = LinearCalibration({640, 480}, TableParams());
+  c.sensing = {{"gain", "8.57143"}, {"threshold", "30"}, {"threshold_mode", "\"fixed\""}};
+  const std::string path = ::testing::TempDir() + "/tuned.yaml";
+  ASSERT_FALSE(SaveCalibration(path, c));
+  Result<Calibration> back = LoadCalibration(path);
+  ASSERT_TRUE(back) << back.error().Format();
+  ASSERT_EQ(back.value().sensing.size(), 3u);
+  EXPECT_EQ(back.value().sensing[0].first, "gain");
+  EXPECT_DOUBLE_EQ(std::stod(back.value().sensing[0].second), 8.57143);
+  EXPECT_EQ(back.value().sensing[1].first, "threshold");
+  EXPECT_DOUBLE_EQ(std::stod(back.value().sensing[1].second), 30.0);
+  EXPECT_EQ(back.value().sensing[2],
+            std::make_pair(std::string("threshold_mode"), std::string("\"fixed\"")));
+}
+
+TEST(Calibration, SensingThatIsNotAMapOfValuesIsNamed) {
+  const std::string head =
+      "%YAML:1.0\nimage_width: 640\nimage_height: 480\n"
+      "camera_matrix: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n"
+      "  data: [640, 0, 320, 0, 640, 240, 0, 0, 1]\n"
+      "dist_coeffs: !!opencv-matrix\n  rows: 1\n  cols: 5\n  dt: d\n  data: [0, 0, 0, 0, 0]\n"
+      "camera_to_table: !!opencv-matrix\n  rows: 3\n  cols: 3\n  dt: d\n"
+      "  data: [0.1, 0, 0, 0, -0.1, 48, 0, 0, 1]\n";
+  Result<Calibration> r =
+      LoadCalibration(WriteFile("sensing_list.yaml", head + "sensing: [1, 2]\n"));
+  ASSERT_FALSE(r);
+  EXPECT_THAT(r.error().Format(), HasSubstr("field 'sensing' must be a map"));
+  r = LoadCalibration(WriteFile("sensing_nested.yaml", head + "sensing:\n  gain: [1, 2]\n"));
+  ASSERT_FALSE(r);
+  EXPECT_THAT(r.error().Format(), HasSubstr("sensing_nested.yaml: field 'sensing.gain'"));
+}
+
 TEST(Calibration, MissingFileNamesIt) {
   Result<Calibration> r = LoadCalibration("/no/such/dir/calib.yaml");
   ASSERT_FALSE(r);

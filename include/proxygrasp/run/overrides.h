@@ -24,11 +24,18 @@ Result<Override> ParseOverride(const std::string& argument);
 /// on error.
 MaybeError SetLevelParam(Level& level, const std::string& dottedKey, const std::string& text);
 
-/// Applies every `--set` argument in order to the level (and its variants). The first bad one is
-/// an Error "--set ARG: message"; the level is left as it was.
+/// Applies every `--set` argument in order to the level (and its variants), then the sensing values
+/// of the calibration file that sensing.calibration names (ApplyCalibrationSensing), then the
+/// `--set` arguments again: --set wins over the calibration file, which wins over the level file.
+/// The first bad argument is an Error "--set ARG: message"; the level is left as it was.
 MaybeError ApplyOverrides(Level& level, const std::vector<std::string>& arguments);
 
 /// The same for a level's parameters alone (`sense` on a camera has no level).
 MaybeError ApplyOverrides(LevelParams& params, const std::vector<std::string>& arguments);
+
+/// Sets the [sensing] values a calibration file holds (its `sensing` map, written by `proxygrasp
+/// tune`) when params.sensing.calibration names one; nothing when it is "". An unreadable file or a
+/// bad key or value is an Error naming the file and the key; params are left as they were.
+MaybeError ApplyCalibrationSensing(LevelParams& params);
 
 }  // namespace pg

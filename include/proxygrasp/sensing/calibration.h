@@ -10,6 +10,8 @@
 #include <opencv2/core.hpp>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace pg {
 
@@ -43,6 +45,9 @@ struct Calibration {
   cv::Matx33d cameraToTable = cv::Matx33d::eye();   ///< undistorted camera px -> table cm
   cv::Matx33d tableToDisplay = cv::Matx33d::eye();  ///< table cm -> display px
   cv::Mat background;  ///< optional CV_8UC1 clear-table frame of imageSize; empty when absent
+  /// Optional sensing values tuned for this table (`proxygrasp tune`): a [sensing] key and its
+  /// value as TOML text ("9.2", "\"fixed\""), in file order. See ApplyCalibrationSensing.
+  std::vector<std::pair<std::string, std::string>> sensing;
 };
 
 /// Reads a calibration YAML file. Errors name the file and the field ("calib.yaml: field
