@@ -103,10 +103,13 @@ inline TableParams ClipTable(const LabelledClip& clip, cv::Size size) {
 
 /// Runs the sensor with `params` over a clip from its first frame to `lastFrame` (a still: its
 /// one frame), calling `each(index, frame, sensor)` after every frame. The clip's frames come as
-/// the camera delivered them (colour for videos and JPEG stills). False when it cannot be read.
+/// the camera delivered them (colour for videos and JPEG stills). A `background` (CV_8UC1 of the
+/// clip's size) is the calibration's clear-table frame; without one the sensor estimates it.
+/// False when the clip cannot be read.
 inline bool RunClip(const std::string& dir, const LabelledClip& clip, const SensingParams& params,
                     int lastFrame,
-                    const std::function<void(int, const ContourFrame&, const Sensor&)>& each) {
+                    const std::function<void(int, const ContourFrame&, const Sensor&)>& each,
+                    const cv::Mat& background = cv::Mat()) {
   const std::string path = dir + "/" + clip.path;
   Sensor sensor;
   if (clip.IsStill()) {
@@ -126,10 +129,11 @@ inline bool RunClip(const std::string& dir, const LabelledClip& clip, const Sens
   if (!(fps > 0.0)) fps = 30.0;
   cv::Mat frame;
   for (int i = 0; i <= lastFrame && video.read(frame); ++i) {
-    if (i == 0 &&
-        sensor.Configure(params, ClipTable(clip, frame.size()),
-                         LinearCalibration(frame.size(), ClipTable(clip, frame.size())), path))
-      return false;
+    if (i == 0) {
+      Calibration calibration = LinearCalibration(frame.size(), ClipTable(clip, frame.size()));
+      calibration.background = background;
+      if (sensor.Configure(params, ClipTable(clip, frame.size()), calibration, path)) return false;
+    }
     Result<ContourFrame> r = sensor.Step(frame, i, i / fps);
     if (!r) return false;
     each(i, r.value(), sensor);
