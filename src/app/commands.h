@@ -17,5 +17,6 @@ void AddRunCommand(CLI::App& app, int& exitCode);
 void AddPlayCommand(CLI::App& app, int& exitCode);
 void AddCalibrateCommand(CLI::App& app, int& exitCode);
 void AddBenchCommand(CLI::App& app, int& exitCode);
+void AddTuneCommand(CLI::App& app, int& exitCode);
 
 }  // namespace pg

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   pg::AddRunCommand(app, exitCode);
   pg::AddPlayCommand(app, exitCode);
   pg::AddCalibrateCommand(app, exitCode);
+  pg::AddTuneCommand(app, exitCode);
   pg::AddBenchCommand(app, exitCode);
 
   try {

@@ -1,0 +1,109 @@
+#include "run_command.h"
+
+#include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace pg {
+namespace {
+
+namespace fs = std::filesystem;
+using test::RunProxygrasp;
+using ::testing::HasSubstr;
+
+std::string Dir(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/cmd_tune_test_" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// A dim table (touches 10 grey above the table, noise 1 grey): `clear` frames of the clear table,
+// then `touched` frames with two fingertips, written as numbered PNGs
+void WriteCapture(const std::string& dir, int clear, int touched) {
+  SyntheticCameraParams p;
+  p.background = 40.0;
+  p.contactLevel = 50.0;
+  p.noise = 1.0;
+  SyntheticCamera camera(p, TableParams());
+  std::vector<ContactShape> touches(2);
+  touches[0].pose.pos = {20.0, 20.0};
+  touches[1].pose.pos = {40.0, 25.0};
+  for (ContactShape& s : touches) s.radius = 0.8;
+  for (int i = 0; i < clear + touched; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/%04d.png", i);
+    ASSERT_TRUE(
+        cv::imwrite(dir + name, camera.Render(i < clear ? std::vector<ContactShape>() : touches)));
+  }
+}
+
+// the number of contacts `sense` printed for one frame (its JSON line), -1 when it printed none
+int ContactsOfFrame(const std::string& output, int frame) {
+  const std::string head = "{\"frame\": " + std::to_string(frame) + ",";
+  const size_t begin = output.find(head);
+  if (begin == std::string::npos) return -1;
+  const std::string line = output.substr(begin, output.find('\n', begin) - begin);
+  int count = 0;
+  for (size_t at = line.find("\"id\":"); at != std::string::npos; at = line.find("\"id\":", at + 1))
+    ++count;
+  return count;
+}
+
+TEST(TuneCommand, WritesValuesThatSenseThenUses) {
+  const std::string dir = Dir("dim");
+  fs::create_directories(dir + "/frames");
+  WriteCapture(dir + "/frames", 30, 30);
+  const std::string out = dir + "/table.yaml";
+  // folder frames carry no rate: 30 Hz makes the 30 clear frames the first second
+  auto r = RunProxygrasp("tune folder:" + dir + "/frames --fps 30 --output " + out);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("30 clear-table frames, 30 frames of touches"));
+  EXPECT_THAT(r.output, HasSubstr("wrote " + out));
+  Result<Calibration> c = LoadCalibration(out);
+  ASSERT_TRUE(c) << c.error().Format();
+  EXPECT_FALSE(c.value().background.empty());
+  ASSERT_EQ(c.value().sensing.size(), 3u);
+  EXPECT_EQ(c.value().sensing[0].first, "gain");
+  EXPECT_GT(std::stod(c.value().sensing[0].second), 1.0);
+
+  // sense sees the two touches with the tuned file, and none without it (10 grey < 30)
+  r = RunProxygrasp("sense folder:" + dir + "/frames --calibration " + out);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(ContactsOfFrame(r.output, 59), 2);
+  EXPECT_EQ(ContactsOfFrame(r.output, 29), 0);
+  r = RunProxygrasp("sense folder:" + dir + "/frames");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(ContactsOfFrame(r.output, 59), 0);
+}
+
+TEST(TuneCommand, BadInputIsNamedWithANonZeroExit) {
+  auto r = RunProxygrasp("tune /no/such/clip.avi");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_THAT(r.output, HasSubstr("/no/such/clip.avi"));
+  r = RunProxygrasp("tune --clear 0 x.avi");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_THAT(r.output, HasSubstr("--clear"));
+  // a capture that never leaves the clear part: tuning fails and says why, writing nothing
+  const std::string dir = Dir("short");
+  fs::create_directories(dir + "/frames");
+  WriteCapture(dir + "/frames", 10, 0);
+  r = RunProxygrasp("tune folder:" + dir + "/frames --output " + dir + "/t.yaml");
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_THAT(r.output, HasSubstr("ended within its clear part"));
+  EXPECT_FALSE(fs::exists(dir + "/t.yaml"));
+  // a calibration that does not exist
+  r = RunProxygrasp("tune folder:" + dir + "/frames --calibration " + dir + "/none.yaml");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_THAT(r.output, HasSubstr("none.yaml: calibration file not found"));
+}
+
+}  // namespace
+}  // namespace pg
