@@ -451,7 +451,7 @@ Vec2 App::Impl::WindowToTable(int x, int y) const {
   SDL_GetWindowSize(window, &ww, &wh);
   const double sx = static_cast<double>(outputSize.width) / std::max(1, ww);
   const double sy = static_cast<double>(outputSize.height) / std::max(1, wh);
-  return map.ToTable({(x + 0.5) * sx, (y + 0.5) * sy});
+  return map.ToTable(view.PictureToDisplay({(x + 0.5) * sx, (y + 0.5) * sy}));
 }
 
 void App::Impl::HandleKey(SDL_Keycode key) {
@@ -557,9 +557,9 @@ void App::Impl::HandleEvent(const SDL_Event& event) {
     case SDL_FINGERDOWN:
     case SDL_FINGERMOTION:
       if (input != InputKind::kTouch) break;
-      touch.Move(
-          static_cast<int64_t>(event.tfinger.fingerId),
-          map.ToTable({event.tfinger.x * outputSize.width, event.tfinger.y * outputSize.height}));
+      touch.Move(static_cast<int64_t>(event.tfinger.fingerId),
+                 map.ToTable(view.PictureToDisplay(
+                     {event.tfinger.x * outputSize.width, event.tfinger.y * outputSize.height})));
       break;
     case SDL_FINGERUP:
       if (input == InputKind::kTouch) touch.Lift(static_cast<int64_t>(event.tfinger.fingerId));
@@ -1002,6 +1002,9 @@ const DisplayMap& App::displayMap() const {
 }
 const cv::Mat& App::picture() const {
   return m_impl->picture;
+}
+const TableView& App::tableView() const {
+  return m_impl->view;
 }
 const std::string& App::loadError() const {
   return m_impl->loadError;

@@ -129,41 +129,37 @@ void Arrow(cv::Mat& img, const cv::Point2d& from, const Vec2& displayVector, con
   cv::arrowedLine(img, Fixed(from), Fixed(to), c, 2, cv::LINE_AA, kShift, 0.2);
 }
 
+// height of TextBox's box for these lines, px
+int TextBoxHeight(const std::vector<std::pair<std::string, cv::Scalar>>& lines, double scale) {
+  if (lines.empty()) return 0;
+  int lineHeight = 0;
+  for (const auto& [text, color] : lines) {
+    int baseline = 0;
+    const cv::Size s = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline);
+    lineHeight = std::max(lineHeight, s.height + baseline + 4);
+  }
+  return lineHeight * static_cast<int>(lines.size()) + 8;
+}
+
 // The sensing view: the table drawing and the sensing preview's tiles (the camera image with the
-// contacts' outlines and ids, then each filter stage) in a grid laid out to show them largest in
-// the window, table drawing first, where the heads-up lines go. Before the first camera frame,
-// the table drawing alone.
-cv::Mat SensingView(const Simulation& sim, const cv::Mat& table) {
+// contacts' outlines and ids, then each filter stage) in the grid of SensingTiles, below the
+// heads-up lines (`top` px). `tableRect` becomes where the table drawing lies. Before the first
+// camera frame, the table drawing alone.
+cv::Mat SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Rect& tableRect) {
   const cv::Mat& camera = sim.sensor().StageImage(SensingStage::kCamera);
   if (camera.empty()) return table;
+  const std::vector<cv::Rect> tiles = SensingTiles(table.size(), camera.size(), top);
+  if (tiles.empty()) return table;
   std::vector<PreviewContact> shown;
   for (const Contact& c : sim.contacts().contacts)
     if (c.state != ContactState::kLifted) shown.push_back({&c.blob, static_cast<int>(c.id)});
-  // the column count that gives the largest tiles
-  constexpr int kTiles = kSensingStageCount + 1;
-  int columns = 1;
-  double scale = 0.0;
-  for (int c = 1; c <= kTiles; ++c) {
-    const int rows = (kTiles + c - 1) / c;
-    const double s = std::min(static_cast<double>(table.cols) / (c * camera.cols),
-                              static_cast<double>(table.rows) / (rows * camera.rows));
-    if (s > scale) {
-      scale = s;
-      columns = c;
-    }
-  }
-  const int rows = (kTiles + columns - 1) / columns;
+  const cv::Size tile = tiles[0].size();
   // the preview's tiles at that size in one row, cut apart below
+  const double scale = static_cast<double>(tile.width) / camera.cols;
   const cv::Mat row = SensingPreview(sim.sensor(), shown, kSensingStageCount, scale);
   if (row.empty()) return table;
-  const cv::Size tile(row.cols / kSensingStageCount, row.rows);
-  const cv::Point origin((table.cols - columns * tile.width) / 2,
-                         (table.rows - rows * tile.height) / 2);
+  const cv::Size cut(row.cols / kSensingStageCount, row.rows);
   cv::Mat out(table.size(), CV_8UC3, view_colors::kOutside);
-  const auto slot = [&](int i) {
-    return cv::Rect(origin.x + (i % columns) * tile.width, origin.y + (i / columns) * tile.height,
-                    tile.width, tile.height);
-  };
 
   // the table drawing, its aspect kept inside the first tile
   {
@@ -171,19 +167,56 @@ cv::Mat SensingView(const Simulation& sim, const cv::Mat& table) {
                               static_cast<double>(tile.height) / table.rows);
     const cv::Size fit(std::max(1, static_cast<int>(table.cols * s)),
                        std::max(1, static_cast<int>(table.rows * s)));
-    const cv::Rect at = slot(0);
-    cv::resize(table,
-               out(cv::Rect(at.x + (tile.width - fit.width) / 2,
-                            at.y + (tile.height - fit.height) / 2, fit.width, fit.height)),
-               fit, 0, 0, cv::INTER_AREA);
+    tableRect = cv::Rect(tiles[0].x + (tile.width - fit.width) / 2,
+                         tiles[0].y + (tile.height - fit.height) / 2, fit.width, fit.height);
+    cv::resize(table, out(tableRect), fit, 0, 0, cv::INTER_AREA);
   }
-  // then the preview's tiles in chain order
-  for (int k = 0; k < kSensingStageCount; ++k)
-    row(cv::Rect(k * tile.width, 0, tile.width, tile.height)).copyTo(out(slot(k + 1)));
+  // then the preview's tiles in chain order (the preview rounds its tile size: the common part)
+  const cv::Size common(std::min(cut.width, tile.width), std::min(cut.height, tile.height));
+  for (int k = 0; k < kSensingStageCount; ++k) {
+    const cv::Rect at = tiles[static_cast<size_t>(k) + 1];
+    row(cv::Rect(k * cut.width, 0, common.width, common.height))
+        .copyTo(out(cv::Rect(at.x, at.y, common.width, common.height)));
+  }
   return out;
 }
 
 }  // namespace
+
+std::vector<cv::Rect> SensingTiles(cv::Size picture, cv::Size camera, int top) {
+  constexpr int kTiles = kSensingStageCount + 1;
+  const int height = picture.height - std::max(0, top);
+  if (camera.width <= 0 || camera.height <= 0 || picture.width <= 0 || height <= 0) return {};
+  // the column count that gives the largest tiles
+  int columns = 1;
+  double scale = 0.0;
+  for (int c = 1; c <= kTiles; ++c) {
+    const int rows = (kTiles + c - 1) / c;
+    const double s = std::min(static_cast<double>(picture.width) / (c * camera.width),
+                              static_cast<double>(height) / (rows * camera.height));
+    if (s > scale) {
+      scale = s;
+      columns = c;
+    }
+  }
+  const int rows = (kTiles + columns - 1) / columns;
+  const cv::Size tile(static_cast<int>(camera.width * scale),
+                      static_cast<int>(camera.height * scale));
+  if (tile.width < 1 || tile.height < 1) return {};
+  const cv::Point origin((picture.width - columns * tile.width) / 2,
+                         std::max(0, top) + (height - rows * tile.height) / 2);
+  std::vector<cv::Rect> tiles;
+  for (int i = 0; i < kTiles; ++i)
+    tiles.emplace_back(origin.x + (i % columns) * tile.width,
+                       origin.y + (i / columns) * tile.height, tile.width, tile.height);
+  return tiles;
+}
+
+cv::Point2d TableView::PictureToDisplay(const cv::Point2d& picture) const {
+  if (m_tableRect.width <= 0 || m_tableRect.height <= 0 || m_size.width <= 0) return picture;
+  return {(picture.x - m_tableRect.x) * m_size.width / m_tableRect.width,
+          (picture.y - m_tableRect.y) * m_size.height / m_tableRect.height};
+}
 
 DisplayMap::DisplayMap(const cv::Matx33d& tableToDisplay)
     : m_toDisplay(tableToDisplay), m_toTable(tableToDisplay.inv()) {}
@@ -509,10 +542,8 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
     }
   }
 
-  if (options.sensing) img = SensingView(sim, img);
-
-  // the heads-up lines
-  int y = 6;
+  // the heads-up lines; the sensing view's tiles go below them
+  std::vector<std::pair<std::string, cv::Scalar>> hud;
   if (options.hud) {
     const FrameStats& s = sim.stats();
     std::vector<std::pair<std::string, cv::Scalar>> lines;
@@ -529,8 +560,16 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
                            std::to_string(s.particles) + "   bodies " + std::to_string(s.bodies),
                        white);
     if (!overlay.status.empty()) lines.emplace_back(overlay.status, cv::Scalar(120, 230, 255));
-    y = TextBox(img, lines, {6, 6}, textScale) + 4;
+    hud = std::move(lines);
   }
+  m_size = size;
+  m_tableRect = cv::Rect(0, 0, size.width, size.height);
+  if (options.sensing) {
+    const int top = hud.empty() ? 0 : 6 + TextBoxHeight(hud, textScale) + 4;
+    img = SensingView(sim, img, top, m_tableRect);
+  }
+  int y = 6;
+  if (!hud.empty()) y = TextBox(img, hud, {6, 6}, textScale) + 4;
   if (!overlay.error.empty()) {
     std::vector<std::pair<std::string, cv::Scalar>> lines;
     const size_t width = static_cast<size_t>(std::max(30, size.width / 9));

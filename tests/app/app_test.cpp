@@ -186,6 +186,33 @@ TEST_F(AppTest, TouchFingersAreFingertips) {
   EXPECT_TRUE(app.simulation().shapes().empty());
 }
 
+TEST_F(AppTest, InTheSensingViewTheMouseActsWhereTheSmallTableShowsIt) {
+  AppOptions options = Options(kTestData + "/box_only.toml", "mouse");
+  options.view.sensing = true;
+  App app;
+  ASSERT_FALSE(app.Open(options));
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(app.Tick());
+  const cv::Rect table = app.tableView().tableRect();
+  const cv::Size size = app.picture().size();
+  ASSERT_LT(table.width, size.width / 2);  // the table drawing is one tile of the grid
+  // where the small table shows (12, 30) cm
+  const cv::Point2d full = app.displayMap().ToDisplay({12, 30});
+  const cv::Point at(static_cast<int>(table.x + full.x * table.width / size.width),
+                     static_cast<int>(table.y + full.y * table.height / size.height));
+  PushButton(app, SDL_MOUSEBUTTONDOWN, SDL_BUTTON_LEFT, at);
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(app.Tick());
+  ASSERT_EQ(app.simulation().shapes().size(), 1u);
+  // a window pixel there is size.width / table.width drawing pixels: the pixel the press rounds
+  // to is within that many drawing pixels, over the map's pixels per cm
+  const double cm =
+      static_cast<double>(size.width) / table.width / app.displayMap().PixelsPerCm({12, 30});
+  EXPECT_NEAR(app.simulation().shapes()[0].pose.pos.x(), 12.0, cm);
+  EXPECT_NEAR(app.simulation().shapes()[0].pose.pos.y(), 30.0, cm);
+  PushButton(app, SDL_MOUSEBUTTONUP, SDL_BUTTON_LEFT, at);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_TRUE(app.simulation().shapes().empty());
+}
+
 TEST_F(AppTest, ReloadsAValidEditAndKeepsTheLevelOnABrokenOne) {
   // a copy of the level to edit
   const std::filesystem::path dir =

@@ -384,5 +384,57 @@ TEST_F(TableViewTest, SensingViewShowsTheTableAndEveryStageInAGrid) {
   EXPECT_EQ(GreenPixels(view.Draw(sim, map, kSize, {})), 0);
 }
 
+TEST(SensingTiles, KeepTheTopFreeAndDoNotOverlap) {
+  // without a top band, 8 tiles of a 640x480 camera in 1024x768 px: 3 columns of 3 rows
+  std::vector<cv::Rect> tiles = SensingTiles({1024, 768}, {640, 480}, 0);
+  ASSERT_EQ(tiles.size(), 8u);
+  EXPECT_EQ(tiles[0].size(), cv::Size(341, 256));
+  for (const cv::Size picture : {cv::Size(1024, 768), cv::Size(1920, 1080), cv::Size(800, 1280)}) {
+    for (int top : {0, 40, 90}) {
+      tiles = SensingTiles(picture, {640, 480}, top);
+      ASSERT_EQ(tiles.size(), 8u);
+      for (size_t i = 0; i < tiles.size(); ++i) {
+        EXPECT_GE(tiles[i].y, top);
+        EXPECT_EQ(tiles[i] & cv::Rect(cv::Point(0, 0), picture), tiles[i]);
+        // the camera's 4:3, to the pixel the sizes are rounded to
+        EXPECT_NEAR(tiles[i].width * 3.0, tiles[i].height * 4.0, 4.0);
+        for (size_t j = 0; j < i; ++j) EXPECT_TRUE((tiles[i] & tiles[j]).empty());
+      }
+    }
+  }
+  EXPECT_TRUE(SensingTiles({1024, 768}, {640, 480}, 768).empty());
+}
+
+TEST_F(TableViewTest, SensingViewKeepsItsTilesBelowTheHeadsUpLinesAndMapsTheMouseThroughItsTable) {
+  TableView view;
+  ViewOptions options;
+  options.sensing = true;  // the heads-up lines are on by default
+  const cv::Mat picture = view.Draw(sim, map, kSize, options);
+  const cv::Rect table = view.tableRect();
+  ASSERT_LT(table.width, kSize.width);
+  // The heads-up box darkens what is under it (x 0.35): outside every tile that is the outside
+  // colour (12) made 4. Every row of the box has such pixels left of the grid, and all lie above
+  // the tiles.
+  int boxBottom = -1;
+  for (int y = 0; y < picture.rows; ++y)
+    for (int x = 0; x < 6 + 40; ++x)
+      if (picture.at<cv::Vec3b>(y, x) == cv::Vec3b(4, 4, 4)) boxBottom = y;
+  ASSERT_GT(boxBottom, 20);
+  EXPECT_LT(boxBottom, table.y);
+  // the picture's table tile maps onto the full drawing: its corner to the drawing's corner, and
+  // the box found there to where the level puts it (30, 23) cm; one picture pixel is
+  // 1024 / table.width drawing pixels, 0.3 cm covers it and the outline's pull
+  EXPECT_EQ(view.PictureToDisplay(cv::Point2d(table.x, table.y)), cv::Point2d(0, 0));
+  const test::ColorPixels box = FindColor(picture(table), view_colors::Object(0), kColorTolerance);
+  ASSERT_GT(box.count, 0);
+  const Vec2 centre = map.ToTable(
+      view.PictureToDisplay(cv::Point2d(table.x + box.centroid.x, table.y + box.centroid.y)));
+  EXPECT_NEAR(centre.x(), 30.0, 0.3);
+  EXPECT_NEAR(centre.y(), 23.0, 0.3);
+  // without the sensing view a picture point is the drawing's point
+  view.Draw(sim, map, kSize, {});
+  EXPECT_EQ(view.PictureToDisplay(cv::Point2d(100.5, 200.5)), cv::Point2d(100.5, 200.5));
+}
+
 }  // namespace
 }  // namespace pg

@@ -98,6 +98,8 @@ class App {
   const DisplayMap& displayMap() const;
   /// The drawing of the last frame (BGR, window pixels), without the UI.
   const cv::Mat& picture() const;
+  /// What drew it: where the table drawing lies in the picture (TableView::tableRect).
+  const TableView& tableView() const;
   /// The last reload's or start's error (file:line:col: message), "" when the level loaded.
   const std::string& loadError() const;
   /// The input's or the pipeline's last error (a lost camera, a rejected frame), "" when none.

@@ -86,6 +86,11 @@ inline constexpr int kLabelGap = 6;
 /// first). A box with no free place anywhere keeps the place it wants.
 std::vector<cv::Rect> SpreadLabels(std::span<const cv::Rect> wanted, cv::Size image);
 
+/// The sensing view's grid in a picture of `picture` px: the table drawing's tile first, then one
+/// tile per sensing stage, each of the camera's aspect, laid out to be largest below the top `top`
+/// px (kept for the heads-up lines), centred. Empty when nothing fits.
+std::vector<cv::Rect> SensingTiles(cv::Size picture, cv::Size camera, int top);
+
 /// Colours of the drawing (BGR), shared with tests that look for them.
 namespace view_colors {
 inline const cv::Scalar kOutside(12, 12, 12);     ///< outside the table
@@ -108,9 +113,17 @@ class TableView {
                const ViewOptions& options, const Overlay& overlay = {});
   /// Forgets the last frame (after a restart).
   void Reset() { m_lastPositions.clear(); }
+  /// Where the last picture shows the table drawing: the whole picture, or the sensing view's
+  /// first tile.
+  const cv::Rect& tableRect() const { return m_tableRect; }
+  /// A point of the last picture, px, as the point of the full-size table drawing it shows (what
+  /// DisplayMap::ToTable takes): the identity unless the sensing view shrank the drawing.
+  cv::Point2d PictureToDisplay(const cv::Point2d& picture) const;
 
  private:
   std::unordered_map<ParticleId, Vec2> m_lastPositions;
+  cv::Size m_size;
+  cv::Rect m_tableRect;
 };
 
 }  // namespace pg
