@@ -57,6 +57,11 @@ double LayeredWorld::Impl::ParticleMass() const {
   return params.gripStiffness * dt * dt + params.gripDamping * dt;
 }
 
+double LayeredWorld::Impl::GripPush(double depth, double goalSpeed) const {
+  return params.gripStiffness * std::min(depth, params.gripMaxDepth) +
+         params.gripDamping * goalSpeed;
+}
+
 b2MassData LayeredWorld::Impl::ParticleMassData() const {
   b2MassData md;
   md.mass = static_cast<float>(ParticleMass());
@@ -159,8 +164,7 @@ void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec
   const Vec2 in = (point - FromB2(output.pointB)) / static_cast<double>(output.distance);
   const double d = (goal - stop).dot(in);
   if (d <= 0.0) return;
-  const double push = params.gripStiffness * std::min(d, params.gripMaxDepth) +
-                      params.gripDamping * goalVel.dot(in);
+  const double push = GripPush(d, goalVel.dot(in));
   if (push <= 0.0) return;
   slice->ApplyForce(ToB2(push * in), ToB2(point), true);
   ContactRecord r;
@@ -181,8 +185,6 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
   // that is the implicit spring-damper k min(d_end, d_max) + c (v_goal - v_surface): the same
   // force law at any substep count (docs/physics.md, "Grip").
   const double m = ParticleMass();
-  const double k = params.gripStiffness, c = params.gripDamping;
-  const double dMax = params.gripMaxDepth;
   const double aimScale = dt * dt / m;
   // the layers' contact records of this substep start here: PressOnArrival adds to them
   for (auto& layer : layers) layer->records.clear();
@@ -224,8 +226,7 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
         const Vec2 in = (fa->GetBody() == b ? 1.0 : -1.0) * FromB2(wm.normal);
         const double d = (aim - x).dot(in);
         if (d <= 0.0) continue;  // moving off the surface: the plain control lets go
-        const double push = k * std::min(d, dMax) + c * goalVel.dot(in);
-        aim += (push * aimScale - d) * in;
+        aim += (GripPush(d, goalVel.dot(in)) * aimScale - d) * in;
       }
       if (!pressing) {
         b2Fixture* surface = StopAtSurface(b, x, &aim);

@@ -237,6 +237,10 @@ struct LayeredWorld::Impl {
                       const Vec2& goalVel);
   /// Mass of one particle body, k dt^2 + c dt (docs/physics.md, "Grip"), g.
   double ParticleMass() const;
+  /// The grip's force law along a contact normal, dyn: k min(depth, d_max) + c goalSpeed, where
+  /// depth (cm) is how far the goal lies inside the surface and goalSpeed (cm/s) how fast it
+  /// moves inwards (docs/physics.md, "Grip").
+  double GripPush(double depth, double goalSpeed) const;
   b2MassData ParticleMassData() const;
   /// Applies the queued external pushes for one substep.
   void ApplyPushes();
