@@ -18,10 +18,7 @@ using test::RunProxygrasp;
 using ::testing::HasSubstr;
 
 std::string Dir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/cmd_calibrate_test_" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::FreshDir("cmd_calibrate_test", name);
 }
 
 // the worst distance over a 1 cm grid of the table between a point and where the calibration maps

@@ -19,10 +19,7 @@ using test::RunProxygrasp;
 using ::testing::HasSubstr;
 
 std::string Dir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/cmd_tune_test_" + name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::FreshDir("cmd_tune_test", name);
 }
 
 // A dim table (touches 10 grey above the table, noise 1 grey): `clear` frames of the clear table,

@@ -1,8 +1,11 @@
 // Runs the proxygrasp executable in tests and captures what it prints and its exit code.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <sys/wait.h>
 
@@ -26,6 +29,14 @@ inline CommandResult RunProxygrasp(const std::string& args) {
   const int status = pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+/// A fresh, empty folder "<prefix>_<name>" under the test's temporary folder.
+inline std::string FreshDir(const std::string& prefix, const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/" + prefix + "_" + name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 }  // namespace pg::test
