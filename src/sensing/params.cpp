@@ -22,7 +22,8 @@ void Describe(SyntheticCameraParams& p, ParamVisitor& v) {
 
 void Describe(SensingParams& p, ParamVisitor& v) {
   v.Text("calibration", p.calibration,
-         {"calibration YAML written by `proxygrasp calibrate` (\"\" maps the image linearly)",
+         {"calibration YAML written by `proxygrasp calibrate` or `proxygrasp tune` (\"\" maps the "
+          "image linearly); its tuned [sensing] values replace the level's, and --set wins",
           Apply::kRestart});
   v.Integer("background_frames", p.backgroundFrames, 0, 600, "frames",
             {"clear-table frames averaged into the background at start (0 = estimate it from the "
