@@ -208,7 +208,7 @@ struct App::Impl {
   MaybeError Adopt(Level next, const std::string& path);
   MaybeError Load(const std::string& path);
   MaybeError StartRun(const Level& runLevel, const LevelParams& runParams);
-  void ApplyParams(const LevelParams& next);
+  void ApplyParams(const LevelParams& edited);
   MaybeError SetupInput();
   void Say(const std::string& text);
   void UpdateOutputSize();
@@ -339,7 +339,7 @@ MaybeError App::Impl::StartRun(const Level& runLevel, const LevelParams& runPara
   return std::nullopt;
 }
 
-void App::Impl::ApplyParams(const LevelParams& next) {
+void App::Impl::ApplyParams(const LevelParams& edited) {
   auto join = [](const std::vector<std::string>& keys) {
     std::string text;
     for (const std::string& k : keys) text += (text.empty() ? "" : ", ") + k;
@@ -355,6 +355,11 @@ void App::Impl::ApplyParams(const LevelParams& next) {
     edit = params;
     say("rejected: " + runError);
   };
+  // another calibration file brings its tuned sensing values (the edit's other keys stay)
+  LevelParams next = edited;
+  if (next.sensing.calibration != params.sensing.calibration) {
+    if (MaybeError s = ApplyCalibrationSensing(next)) return reject(*s);
+  }
   // the running simulation takes what it can in place and keeps its objects and particles
   Result<RetuneReport> retuned = sim.Retune(next);
   if (!retuned.ok()) return reject(retuned.error());

@@ -5,6 +5,8 @@
 #include "pixels.h"
 #include "xvfb.h"
 
+#include "proxygrasp/sensing/calibration.h"
+
 #include <SDL.h>
 #include <gtest/gtest.h>
 
@@ -432,6 +434,38 @@ TEST_F(AppTest, ChangesARunningLevelCannotTakeRestartItAndBadValuesAreRejected) 
   EXPECT_EQ(app.simulation().Frame(), 2);
   EXPECT_EQ(app.runError(), "physics.layers must be in [1, 16] (got 40)");
   EXPECT_EQ(app.tuneStatus(), "rejected: physics.layers must be in [1, 16] (got 40)");
+}
+
+TEST_F(AppTest, ACalibrationNamedInThePanelBringsItsTunedSensingValues) {
+  App app;
+  ASSERT_FALSE(app.Open(Options(kTestData + "/box_goal.toml", "script")));
+  ASSERT_TRUE(app.Tick());
+  // a calibration for the synthetic camera (640x480) whose tuned values raise the gain
+  Calibration c = LinearCalibration({640, 480}, app.simulation().params().table);
+  c.sensing = {{"gain", "2.5"}, {"threshold", "45"}};
+  const std::string path = OutDir() + "/tuned.yaml";
+  std::filesystem::create_directories(OutDir());
+  ASSERT_FALSE(SaveCalibration(path, c));
+  LevelParams params = app.simulation().params();
+  params.sensing.calibration = path;
+  params.tracking.maxDistance = 3.0;  // an edit of another key at the same time stays
+  app.RequestParams(params);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_EQ(app.runError(), "");
+  EXPECT_EQ(app.simulation().params().sensing.gain, 2.5);
+  EXPECT_EQ(app.simulation().params().sensing.threshold, 45.0);
+  EXPECT_EQ(app.simulation().params().tracking.maxDistance, 3.0);
+  // a calibration with a bad tuned key is rejected and the running values stay
+  c.sensing = {{"gian", "2"}};
+  const std::string bad = OutDir() + "/bad.yaml";
+  ASSERT_FALSE(SaveCalibration(bad, c));
+  params = app.simulation().params();
+  params.sensing.calibration = bad;
+  app.RequestParams(params);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_NE(app.runError().find("bad.yaml: field 'sensing.gian'"), std::string::npos)
+      << app.runError();
+  EXPECT_EQ(app.simulation().params().sensing.calibration, path);
 }
 
 TEST_F(AppTest, RecordsInputAndTrace) {
