@@ -907,9 +907,10 @@ bool App::Tick() {
   if (!a.runError.empty()) overlay.error += (overlay.error.empty() ? "" : "\n") + a.runError;
   overlay.help = kHelpLines;
   if (a.simOk) {
-    a.picture = a.view.Draw(a.sim, a.map, a.outputSize, a.viewOptions, overlay);
+    a.view.Draw(a.sim, a.map, a.outputSize, a.viewOptions, overlay, a.picture);
   } else {
-    a.picture = cv::Mat(a.outputSize, CV_8UC3, view_colors::kOutside);
+    a.picture.create(a.outputSize, CV_8UC3);
+    a.picture.setTo(view_colors::kOutside);
   }
 
   // upload it, then the UI on top

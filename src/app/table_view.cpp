@@ -143,13 +143,14 @@ int TextBoxHeight(const std::vector<std::pair<std::string, cv::Scalar>>& lines, 
 
 // The sensing view: the table drawing and the sensing preview's tiles (the camera image with the
 // contacts' outlines and ids, then each filter stage) in the grid of SensingTiles, below the
-// heads-up lines (`top` px). `tableRect` becomes where the table drawing lies. Before the first
-// camera frame, the table drawing alone.
-cv::Mat SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Rect& tableRect) {
+// heads-up lines (`top` px), drawn into `out`. `tableRect` becomes where the table drawing lies.
+// False (nothing drawn) before the first camera frame: the table drawing shows alone.
+bool SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Rect& tableRect,
+                 cv::Mat& out) {
   const cv::Mat& camera = sim.sensor().StageImage(SensingStage::kCamera);
-  if (camera.empty()) return table;
+  if (camera.empty()) return false;
   const std::vector<cv::Rect> tiles = SensingTiles(table.size(), camera.size(), top);
-  if (tiles.empty()) return table;
+  if (tiles.empty()) return false;
   std::vector<PreviewContact> shown;
   for (const Contact& c : sim.contacts().contacts)
     if (c.state != ContactState::kLifted) shown.push_back({&c.blob, static_cast<int>(c.id)});
@@ -157,9 +158,10 @@ cv::Mat SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Re
   // the preview's tiles at that size in one row, cut apart below
   const double scale = static_cast<double>(tile.width) / camera.cols;
   const cv::Mat row = SensingPreview(sim.sensor(), shown, kSensingStageCount, scale);
-  if (row.empty()) return table;
+  if (row.empty()) return false;
   const cv::Size cut(row.cols / kSensingStageCount, row.rows);
-  cv::Mat out(table.size(), CV_8UC3, view_colors::kOutside);
+  out.create(table.size(), CV_8UC3);
+  out.setTo(view_colors::kOutside);
 
   // the table drawing, its aspect kept inside the first tile
   {
@@ -178,7 +180,7 @@ cv::Mat SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Re
     row(cv::Rect(k * cut.width, 0, common.width, common.height))
         .copyTo(out(cv::Rect(at.x, at.y, common.width, common.height)));
   }
-  return out;
+  return true;
 }
 
 }  // namespace
@@ -352,8 +354,17 @@ cv::Scalar Layer(int layer) {
 
 cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size size,
                         const ViewOptions& options, const Overlay& overlay) {
+  cv::Mat picture;
+  Draw(sim, map, size, options, overlay, picture);
+  return picture;
+}
+
+void TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size size,
+                     const ViewOptions& options, const Overlay& overlay, cv::Mat& picture) {
   namespace c = view_colors;
-  cv::Mat img(size, CV_8UC3, c::kOutside);
+  picture.create(size, CV_8UC3);
+  picture.setTo(c::kOutside);
+  cv::Mat& img = picture;
   const LevelParams& params = sim.params();
   const LayeredWorld& world = sim.world();
   const double textScale = std::clamp(size.width / 2200.0, 0.35, 0.8);
@@ -566,7 +577,7 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
   m_tableRect = cv::Rect(0, 0, size.width, size.height);
   if (options.sensing) {
     const int top = hud.empty() ? 0 : 6 + TextBoxHeight(hud, textScale) + 4;
-    img = SensingView(sim, img, top, m_tableRect);
+    if (SensingView(sim, img, top, m_tableRect, m_sensing)) cv::swap(img, m_sensing);
   }
   int y = 6;
   if (!hud.empty()) y = TextBox(img, hud, {6, 6}, textScale) + 4;
@@ -582,7 +593,6 @@ cv::Mat TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size s
       lines.emplace_back(line, cv::Scalar(230, 230, 230));
     TextBox(img, lines, {size.width / 4, size.height / 4}, textScale * 1.2);
   }
-  return img;
 }
 
 }  // namespace pg

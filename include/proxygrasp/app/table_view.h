@@ -108,9 +108,13 @@ cv::Scalar Layer(int layer);
 /// Draws frames of a simulation. Keeps the last frame's particle positions for successor links.
 class TableView {
  public:
-  /// Draws the simulation's last frame into a BGR image of `size`.
+  /// Draws the simulation's last frame into a new BGR image of `size`.
   cv::Mat Draw(const Simulation& sim, const DisplayMap& map, cv::Size size,
                const ViewOptions& options, const Overlay& overlay = {});
+  /// The same into `picture`, reusing its buffer when it has that size (the window draws every
+  /// frame into one picture: a fresh 3.7 MB image a frame fragments the heap).
+  void Draw(const Simulation& sim, const DisplayMap& map, cv::Size size, const ViewOptions& options,
+            const Overlay& overlay, cv::Mat& picture);
   /// Forgets the last frame (after a restart).
   void Reset() { m_lastPositions.clear(); }
   /// Where the last picture shows the table drawing: the whole picture, or the sensing view's
@@ -124,6 +128,7 @@ class TableView {
   std::unordered_map<ParticleId, Vec2> m_lastPositions;
   cv::Size m_size;
   cv::Rect m_tableRect;
+  cv::Mat m_sensing;  // the sensing view's grid, swapped with the picture
 };
 
 }  // namespace pg
