@@ -8,6 +8,7 @@
 #include "proxygrasp/sensing/frame_source.h"
 #include "proxygrasp/sensing/tune.h"
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -22,6 +23,7 @@ struct TuneArgs {
   std::string calibration;
   std::string output;
   double clear = 1.0;
+  double seconds = 10.0;
   int64_t frames = 0;
   double fps = 0.0;
   std::vector<std::string> sets;
@@ -54,7 +56,9 @@ int Tune(const TuneArgs& a) {
   int64_t index = 0;
   int bad = 0;
   cv::Mat frame;
-  while (a.frames <= 0 || index < a.frames) {
+  // a live camera never ends: --seconds (of the capture's own time) ends it
+  const int64_t last = a.seconds > 0.0 ? static_cast<int64_t>(std::ceil(a.seconds * fps)) : 0;
+  while ((a.frames <= 0 || index < a.frames) && (last <= 0 || index < last)) {
     const FrameStatus status = source.Read(frame);
     if (status == FrameStatus::kEnd) break;
     if (status == FrameStatus::kLost) {
@@ -151,7 +155,12 @@ void AddTuneCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--clear", args.clear, "The first seconds of the capture show the clear table, s")
       ->capture_default_str()
       ->check(CLI::Range(0.05, 600.0));
-  cmd->add_option("--frames", args.frames, "Read at most this many frames (0 = to the end)")
+  cmd->add_option("--seconds", args.seconds,
+                  "Read at most this many seconds of the capture, the clear part included (0 = "
+                  "to its end; a camera needs a limit)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
+  cmd->add_option("--frames", args.frames, "Read at most this many frames (0 = no limit)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--fps", args.fps, "Frame rate when the source gives none, Hz")

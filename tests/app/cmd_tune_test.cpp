@@ -59,10 +59,11 @@ TEST(TuneCommand, WritesValuesThatSenseThenUses) {
   fs::create_directories(dir + "/frames");
   WriteCapture(dir + "/frames", 30, 30);
   const std::string out = dir + "/table.yaml";
-  // folder frames carry no rate: 30 Hz makes the 30 clear frames the first second
-  auto r = RunProxygrasp("tune folder:" + dir + "/frames --fps 30 --output " + out);
+  // folder frames carry no rate: 30 Hz makes the 30 clear frames the first second; --seconds
+  // 1.5 reads 45 frames of the 60
+  auto r = RunProxygrasp("tune folder:" + dir + "/frames --fps 30 --seconds 1.5 --output " + out);
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_THAT(r.output, HasSubstr("30 clear-table frames, 30 frames of touches"));
+  EXPECT_THAT(r.output, HasSubstr("30 clear-table frames, 15 frames of touches"));
   EXPECT_THAT(r.output, HasSubstr("wrote " + out));
   Result<Calibration> c = LoadCalibration(out);
   ASSERT_TRUE(c) << c.error().Format();
