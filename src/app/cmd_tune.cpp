@@ -82,6 +82,13 @@ int Tune(const TuneArgs& a) {
           return kExitBadInput;
         }
         calibration = loaded.value();
+        if (calibration.imageSize != frame.size()) {
+          std::cerr << me << params.sensing.calibration
+                    << ": field 'image_width'/'image_height' is " << calibration.imageSize.width
+                    << "x" << calibration.imageSize.height << " but " << source.Describe()
+                    << " delivers " << frame.cols << "x" << frame.rows << "\n";
+          return kExitBadInput;
+        }
       } else {
         calibration = LinearCalibration(frame.size(), params.table);
       }

@@ -97,6 +97,13 @@ TEST(TuneCommand, BadInputIsNamedWithANonZeroExit) {
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_THAT(r.output, HasSubstr("ended within its clear part"));
   EXPECT_FALSE(fs::exists(dir + "/t.yaml"));
+  // a calibration of another image size
+  Calibration other = LinearCalibration({320, 240}, TableParams());
+  ASSERT_FALSE(SaveCalibration(dir + "/small.yaml", other));
+  r = RunProxygrasp("tune folder:" + dir + "/frames --calibration " + dir + "/small.yaml");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_THAT(r.output,
+              HasSubstr("small.yaml: field 'image_width'/'image_height' is 320x240 but "));
   // a calibration that does not exist
   r = RunProxygrasp("tune folder:" + dir + "/frames --calibration " + dir + "/none.yaml");
   EXPECT_EQ(r.exitCode, 2);
