@@ -76,19 +76,12 @@ int Tune(const TuneArgs& a) {
     if (index - bad == 0) {
       // the first good frame fixes the image size the calibration must have
       if (!params.sensing.calibration.empty()) {
-        Result<Calibration> loaded = LoadCalibration(params.sensing.calibration);
+        Result<Calibration> loaded = LoadCalibration(params.sensing.calibration, frame.size());
         if (!loaded) {
           std::cerr << me << loaded.error().Format() << "\n";
           return kExitBadInput;
         }
         calibration = loaded.value();
-        if (calibration.imageSize != frame.size()) {
-          std::cerr << me << params.sensing.calibration
-                    << ": field 'image_width'/'image_height' is " << calibration.imageSize.width
-                    << "x" << calibration.imageSize.height << " but " << source.Describe()
-                    << " delivers " << frame.cols << "x" << frame.rows << "\n";
-          return kExitBadInput;
-        }
       } else {
         calibration = LinearCalibration(frame.size(), params.table);
       }

@@ -1,9 +1,10 @@
 #include "proxygrasp/sensing/calibration.h"
 
+#include "proxygrasp/core/text.h"
+
 #include <opencv2/core/persistence.hpp>
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -21,6 +22,11 @@ Vec2 ApplyHomography(const cv::Matx33d& h, const Vec2& p) {
 
 std::string SizeText(const cv::Mat& m) {
   return std::to_string(m.rows) + "x" + std::to_string(m.cols);
+}
+
+// an image size as width x height
+std::string SizeText(cv::Size s) {
+  return std::to_string(s.width) + "x" + std::to_string(s.height);
 }
 
 bool AllFinite(const cv::Mat& m) {
@@ -298,9 +304,7 @@ Result<Calibration> LoadCalibration(const std::string& path) {
       const cv::FileNode value = *it;
       const std::string key = value.name();
       if (value.isInt() || value.isReal()) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%.17g", static_cast<double>(value));
-        c.sensing.emplace_back(key, text);
+        c.sensing.emplace_back(key, FormatDouble(static_cast<double>(value)));
       } else if (value.isString()) {
         c.sensing.emplace_back(key, "\"" + static_cast<std::string>(value) + "\"");
       } else {
@@ -311,6 +315,16 @@ Result<Calibration> LoadCalibration(const std::string& path) {
 
   Result<CameraModel> model = ModelFromCalibration(c, path);
   if (!model) return model.error();
+  return c;
+}
+
+Result<Calibration> LoadCalibration(const std::string& path, cv::Size imageSize) {
+  Result<Calibration> c = LoadCalibration(path);
+  if (!c) return c;
+  if (c.value().imageSize != imageSize)
+    return MakeError({path}, "field 'image_width'/'image_height' is " +
+                                 SizeText(c.value().imageSize) + " but the camera delivers " +
+                                 SizeText(imageSize));
   return c;
 }
 

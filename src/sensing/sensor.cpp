@@ -72,13 +72,12 @@ void Unshare(cv::Mat& image, std::initializer_list<const cv::Mat*> upstream) {
   }
 }
 
-// the structuring element of the clean-up opening (empty for none)
+}  // namespace
+
 cv::Mat OpeningKernel(int radius) {
   if (radius <= 0) return cv::Mat();
   return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
 }
-
-}  // namespace
 
 cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin) {
   assert(frame.type() == CV_8UC1 && "background estimate needs an 8-bit grey frame");
@@ -149,12 +148,8 @@ MaybeError Sensor::Configure(const SensingParams& params, const TableParams& tab
                              cv::Size imageSize) {
   if (params.calibration.empty())
     return Configure(params, table, LinearCalibration(imageSize, table), "linear calibration");
-  Result<Calibration> c = LoadCalibration(params.calibration);
+  Result<Calibration> c = LoadCalibration(params.calibration, imageSize);
   if (!c) return c.error();
-  if (c.value().imageSize != imageSize)
-    return MakeError({params.calibration}, "field 'image_width'/'image_height' is " +
-                                               SizeText(c.value().imageSize) +
-                                               " but the camera delivers " + SizeText(imageSize));
   return Configure(params, table, c.value(), params.calibration);
 }
 

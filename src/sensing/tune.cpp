@@ -12,8 +12,8 @@ namespace {
 
 constexpr double kMaxGain = 32.0;  // the gain's range ends there (docs/levels.md)
 
-std::string SizeOf(const cv::Mat& m) {
-  return std::to_string(m.cols) + "x" + std::to_string(m.rows);
+std::string SizeOf(cv::Size s) {
+  return std::to_string(s.width) + "x" + std::to_string(s.height);
 }
 
 std::string Number(double value) {
@@ -56,15 +56,13 @@ MaybeError SensingTuner::Configure(const SensingParams& params, const TableParam
   // the tuner reads the high-pass stage: gain 1 and a fixed threshold keep the rest of the chain
   // as cheap as it can be
   m_given = params;
-  m_params = params;
-  m_params.gain = 1.0;
-  m_params.thresholdMode = ThresholdMode::kFixed;
-  m_params.threshold = 254.0;
+  SensingParams highpass = params;
+  highpass.gain = 1.0;
+  highpass.thresholdMode = ThresholdMode::kFixed;
+  highpass.threshold = 254.0;
   Calibration probe = calibration;
   probe.background.release();
-  if (MaybeError s = m_sensor.Configure(m_params, table, probe, "calibration")) return s;
-  m_table = table;
-  m_calibration = probe;
+  if (MaybeError s = m_sensor.Configure(highpass, table, probe, "calibration")) return s;
   m_options = options;
   m_haveStart = false;
   m_clear.clear();
@@ -72,10 +70,7 @@ MaybeError SensingTuner::Configure(const SensingParams& params, const TableParam
   m_clearFrames = m_touchFrames = 0;
   m_noiseLevel = 0;
   m_peaks.clear();
-  m_kernel = params.morphology > 0
-                 ? cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * params.morphology + 1,
-                                                                         2 * params.morphology + 1))
-                 : cv::Mat();
+  m_kernel = OpeningKernel(params.morphology);
   const Vec2 centre(0.5 * probe.imageSize.width, 0.5 * probe.imageSize.height);
   const double cmpp = m_sensor.model().CmPerPixel(centre);
   m_minPixels = std::max(1.0, params.minArea / (cmpp * cmpp));
@@ -89,10 +84,9 @@ MaybeError SensingTuner::AddFrame(const cv::Mat& frame, int64_t index, double ti
   const int type = frame.type();
   if (frame.empty() || (type != CV_8UC1 && type != CV_8UC3 && type != CV_8UC4))
     return MakeError(where, "expected an 8-bit grey or colour frame");
-  if (frame.size() != m_calibration.imageSize)
-    return MakeError(where, "frame is " + SizeOf(frame) + ", expected " +
-                                std::to_string(m_calibration.imageSize.width) + "x" +
-                                std::to_string(m_calibration.imageSize.height));
+  const cv::Size expected = m_sensor.model().imageSize;
+  if (frame.size() != expected)
+    return MakeError(where, "frame is " + SizeOf(frame.size()) + ", expected " + SizeOf(expected));
   if (!m_haveStart) {
     m_startTime = time;
     m_haveStart = true;
@@ -121,7 +115,7 @@ MaybeError SensingTuner::AddFrame(const cv::Mat& frame, int64_t index, double ti
 MaybeError SensingTuner::StartTouches() {
   m_touching = true;
   if (m_clear.empty()) return std::nullopt;
-  cv::Mat sum = cv::Mat::zeros(m_calibration.imageSize, CV_32F);
+  cv::Mat sum = cv::Mat::zeros(m_sensor.model().imageSize, CV_32F);
   for (const auto& [grey, time] : m_clear) cv::accumulate(grey, sum);
   sum.convertTo(m_background, CV_8UC1, 1.0 / static_cast<double>(m_clear.size()));
   if (MaybeError s = m_sensor.SetBackground(m_background)) return s;

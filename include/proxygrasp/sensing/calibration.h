@@ -54,6 +54,11 @@ struct Calibration {
 /// 'camera_matrix' must be a 3x3 matrix (got 3x2)"); nothing is half-loaded.
 Result<Calibration> LoadCalibration(const std::string& path);
 
+/// The same for a camera that delivers frames of `imageSize`: a file made for another size is an
+/// Error naming its size fields ("calib.yaml: field 'image_width'/'image_height' is 320x240 but
+/// the camera delivers 640x480").
+Result<Calibration> LoadCalibration(const std::string& path, cv::Size imageSize);
+
 /// Writes a calibration YAML file that LoadCalibration reads back.
 MaybeError SaveCalibration(const std::string& path, const Calibration& calibration);
 

@@ -133,6 +133,10 @@ class Sensor {
   cv::Mat m_tableMapX, m_tableMapY;
 };
 
+/// The structuring element of the clean-up opening of `radius` px (SensingParams::morphology): an
+/// ellipse 2 radius + 1 px across, empty for 0.
+cv::Mat OpeningKernel(int radius);
+
 /// Estimates a clear-table background from one frame that may show contacts: the lower quartile of
 /// 32x32-pixel blocks, with blocks much brighter than the median (covered by a hand) filled from
 /// their neighbours, then smoothly interpolated back to full size. CV_8UC1 in, CV_8UC1 out.

@@ -69,17 +69,14 @@ class SensingTuner {
   bool ShowsContact(const cv::Mat& highpass, int level);
   void CollectTouchPeaks(const cv::Mat& highpass);
 
-  SensingParams m_params;  // the given parameters with gain 1: the tuner reads the high-pass stage
   SensingParams m_given;
-  TableParams m_table;
-  Calibration m_calibration;
   TuneOptions m_options;
   bool m_configured = false;
   double m_startTime = 0.0;
   bool m_haveStart = false;
   std::vector<std::pair<cv::Mat, double>> m_clear;  // grey frames and times of the clear part
   bool m_touching = false;                          // the clear part is over
-  Sensor m_sensor;
+  Sensor m_sensor;  // gain 1 and a fixed threshold: the tuner reads its high-pass stage
   cv::Mat m_background;
   cv::Mat m_kernel;
   double m_minPixels = 1.0;  // min_area in camera pixels
