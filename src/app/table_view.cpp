@@ -82,10 +82,9 @@ void Text(cv::Mat& img, const std::string& text, cv::Point at, double scale, con
   cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
 }
 
-// lines of text on a dark box, top-left at `at`; returns the y below the box
-int TextBox(cv::Mat& img, const std::vector<std::pair<std::string, cv::Scalar>>& lines,
-            cv::Point at, double scale) {
-  if (lines.empty()) return at.y;
+// the size of TextBox's box for these lines, px (empty for none)
+cv::Size TextBoxSize(const std::vector<std::pair<std::string, cv::Scalar>>& lines, double scale) {
+  if (lines.empty()) return {};
   int width = 0;
   int lineHeight = 0;
   for (const auto& [text, color] : lines) {
@@ -94,7 +93,15 @@ int TextBox(cv::Mat& img, const std::vector<std::pair<std::string, cv::Scalar>>&
     width = std::max(width, s.width);
     lineHeight = std::max(lineHeight, s.height + baseline + 4);
   }
-  const cv::Rect box(at.x, at.y, width + 12, lineHeight * static_cast<int>(lines.size()) + 8);
+  return {width + 12, lineHeight * static_cast<int>(lines.size()) + 8};
+}
+
+// lines of text on a dark box, top-left at `at`; returns the y below the box
+int TextBox(cv::Mat& img, const std::vector<std::pair<std::string, cv::Scalar>>& lines,
+            cv::Point at, double scale) {
+  if (lines.empty()) return at.y;
+  const cv::Rect box(at, TextBoxSize(lines, scale));
+  const int lineHeight = (box.height - 8) / static_cast<int>(lines.size());
   cv::Mat roi = img(box & cv::Rect(0, 0, img.cols, img.rows));
   roi *= 0.35;
   int y = at.y + 4 + lineHeight - 6;
@@ -127,18 +134,6 @@ void Arrow(cv::Mat& img, const cv::Point2d& from, const Vec2& displayVector, con
   if (displayVector.norm() < 2.0) return;
   const cv::Point2d to(from.x + displayVector.x(), from.y + displayVector.y());
   cv::arrowedLine(img, Fixed(from), Fixed(to), c, 2, cv::LINE_AA, kShift, 0.2);
-}
-
-// height of TextBox's box for these lines, px
-int TextBoxHeight(const std::vector<std::pair<std::string, cv::Scalar>>& lines, double scale) {
-  if (lines.empty()) return 0;
-  int lineHeight = 0;
-  for (const auto& [text, color] : lines) {
-    int baseline = 0;
-    const cv::Size s = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, 1, &baseline);
-    lineHeight = std::max(lineHeight, s.height + baseline + 4);
-  }
-  return lineHeight * static_cast<int>(lines.size()) + 8;
 }
 
 // The sensing view: the table drawing and the sensing preview's tiles (the camera image with the
@@ -557,26 +552,24 @@ void TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size size
   std::vector<std::pair<std::string, cv::Scalar>> hud;
   if (options.hud) {
     const FrameStats& s = sim.stats();
-    std::vector<std::pair<std::string, cv::Scalar>> lines;
     const cv::Scalar white(230, 230, 230);
     std::string first = sim.level().name + "   frame " + std::to_string(sim.Frame()) +
                         Format("   t %.2f s", sim.Time());
     if (overlay.fps > 0) first += Format("   %.1f fps", overlay.fps);
     if (options.layer >= 0) first += "   layer " + std::to_string(options.layer);
-    lines.emplace_back(first, white);
-    lines.emplace_back(Format("ms  sense %.2f  track %.2f  proxies %.2f  physics %.2f  total %.2f",
-                              s.senseMs, s.trackMs, s.proxyMs, s.physicsMs, s.totalMs),
-                       white);
-    lines.emplace_back("contacts " + std::to_string(s.contacts) + "   particles " +
-                           std::to_string(s.particles) + "   bodies " + std::to_string(s.bodies),
-                       white);
-    if (!overlay.status.empty()) lines.emplace_back(overlay.status, cv::Scalar(120, 230, 255));
-    hud = std::move(lines);
+    hud.emplace_back(first, white);
+    hud.emplace_back(Format("ms  sense %.2f  track %.2f  proxies %.2f  physics %.2f  total %.2f",
+                            s.senseMs, s.trackMs, s.proxyMs, s.physicsMs, s.totalMs),
+                     white);
+    hud.emplace_back("contacts " + std::to_string(s.contacts) + "   particles " +
+                         std::to_string(s.particles) + "   bodies " + std::to_string(s.bodies),
+                     white);
+    if (!overlay.status.empty()) hud.emplace_back(overlay.status, cv::Scalar(120, 230, 255));
   }
   m_size = size;
   m_tableRect = cv::Rect(0, 0, size.width, size.height);
   if (options.sensing) {
-    const int top = hud.empty() ? 0 : 6 + TextBoxHeight(hud, textScale) + 4;
+    const int top = hud.empty() ? 0 : 6 + TextBoxSize(hud, textScale).height + 4;
     if (SensingView(sim, img, top, m_tableRect, m_sensing)) cv::swap(img, m_sensing);
   }
   int y = 6;
