@@ -204,4 +204,18 @@ inline void ScoreFrame(const LabelledClip& clip, const LabelledFrame& labels,
   }
 }
 
+/// Scores the labelled frames of one clip as RunClip delivers its frames in order: call it with
+/// each frame; unlabelled frames are passed over.
+struct ClipScorer {
+  explicit ClipScorer(const LabelledClip& scored) : clip(scored) {}
+  const LabelledClip& clip;
+  Score score;
+  size_t next = 0;
+  void operator()(int index, const ContourFrame& frame, const Sensor& sensor) {
+    while (next < clip.frames.size() && clip.frames[next].index < index) ++next;
+    if (next < clip.frames.size() && clip.frames[next].index == index)
+      ScoreFrame(clip, clip.frames[next], frame, sensor, score);
+  }
+};
+
 }  // namespace pg::real

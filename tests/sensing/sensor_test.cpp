@@ -743,16 +743,12 @@ real::Score ScoreClips(const RealData& d, const std::vector<std::string>& names)
     bool wanted = false;
     for (const std::string& n : names) wanted = wanted || clip.path.find(n) != std::string::npos;
     if (!wanted) continue;
-    real::Score s;
-    size_t next = 0;
-    const bool read =
-        real::RunClip(d.dir, clip, SensingParams(), clip.LastFrame(),
-                      [&](int i, const ContourFrame& f, const Sensor& sensor) {
-                        while (next < clip.frames.size() && clip.frames[next].index < i) ++next;
-                        if (next < clip.frames.size() && clip.frames[next].index == i)
-                          real::ScoreFrame(clip, clip.frames[next], f, sensor, s);
-                      });
+    real::ClipScorer scorer(clip);
+    const bool read = real::RunClip(
+        d.dir, clip, SensingParams(), clip.LastFrame(),
+        [&](int i, const ContourFrame& f, const Sensor& sensor) { scorer(i, f, sensor); });
     EXPECT_TRUE(read) << "cannot read " << d.dir << "/" << clip.path;
+    const real::Score& s = scorer.score;
     std::printf("%-50s %2d frames: %3d of %3d fingertips found, %2d of %3d contacts unmatched\n",
                 clip.path.c_str(), s.frames, s.found, s.tips, s.unmatched, s.contacts);
     total.frames += s.frames;

@@ -232,19 +232,17 @@ TEST(RealFootage, TunedValuesFindTheLowContrastHandsOfT2) {
   // clip the hands are gone, so any contact there (at a hot spot or elsewhere) is a phantom. (A
   // contact at a hot spot while the hands are there may be a finger on it: frame 1500 has a
   // labelled fingertip at (159, 365), 10 px from the spot at (162, 368).)
-  real::Score s;
-  size_t next = 0;
+  real::ClipScorer scorer(*t2);
   int phantoms = 0, lastFrame = 0;
   ASSERT_TRUE(real::RunClip(
       dir, *t2, p.params, 1 << 30,
       [&](int i, const ContourFrame& f, const Sensor& sensor) {
         lastFrame = i;
         if (i >= 2300) phantoms += static_cast<int>(f.blobs.size());
-        while (next < t2->frames.size() && t2->frames[next].index < i) ++next;
-        if (next < t2->frames.size() && t2->frames[next].index == i)
-          real::ScoreFrame(*t2, t2->frames[next], f, sensor, s);
+        scorer(i, f, sensor);
       },
       p.background));
+  const real::Score& s = scorer.score;
   std::printf("t2.avi tuned: %d of %d fingertips found, %d of %d contacts unmatched in %d frames\n",
               s.found, s.tips, s.unmatched, s.contacts, s.frames);
   EXPECT_GE(s.found, 0.95 * s.tips) << s.misses;
