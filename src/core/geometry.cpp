@@ -147,11 +147,6 @@ Contour ToContour(const std::vector<Vec2>& points) {
   return c;
 }
 
-double SmoothStep(double t) {
-  t = std::clamp(t, 0.0, 1.0);
-  return t * t * (3.0 - 2.0 * t);
-}
-
 std::optional<std::string> PolygonProblem(const std::vector<Vec2>& p, bool convex) {
   const size_t n = p.size();
   if (n < 3) return "needs at least 3 points, got " + std::to_string(n);

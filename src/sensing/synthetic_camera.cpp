@@ -177,16 +177,6 @@ double HandDistanceUnscaled(const HandModel& h, const Vec2& p) {
   return d;
 }
 
-// The terms of a flat or five-finger hand's distance: 0 the palm, 1.. the fingers. Where every term
-// is at least `blend` each round union in HandDistanceUnscaled is a plain minimum (u = v = 0, and a
-// skipped finger leaves d as it is), so there the distance is the least term, bit for bit, in
-// whatever order the terms are taken.
-double HandTerm(const HandModel& h, int k, const Vec2& p) {
-  if (k == 0) return RoundedBoxDistance(p, h.palmHalf, h.palmCorner);
-  const Finger& f = h.fingers[k - 1];
-  return FingerDistance(p, f.base, h.axes[k - 1], h.axisLen2s[k - 1], f.radius);
-}
-
 bool IsHand(ShapeKind kind) {
   return kind == ShapeKind::kHandFive || kind == ShapeKind::kHandFlat ||
          kind == ShapeKind::kHandCupped;
@@ -219,6 +209,87 @@ Contour LocalPolygon(const ContactShape& s) {
   return MakeCounterClockwise(ToContour(s.points));
 }
 
+// a hand's unscaled local bounds, from its primitives
+std::pair<Vec2, Vec2> HandBounds(const HandModel& h) {
+  if (h.cupped) {
+    const double r = kCupRadius + kCupHalfThickness;
+    return {Vec2(-r, -r), Vec2(r, r)};
+  }
+  Vec2 lo = -h.palmHalf, hi = h.palmHalf;
+  for (const Finger& f : h.fingers) {
+    const Vec2 tip = FingerTip(f);
+    lo = lo.cwiseMin(f.base - Vec2::Constant(f.radius)).cwiseMin(tip - Vec2::Constant(f.radius));
+    hi = hi.cwiseMax(f.base + Vec2::Constant(f.radius)).cwiseMax(tip + Vec2::Constant(f.radius));
+  }
+  return {lo, hi};
+}
+
+// ---- a hand's distance sampled on a grid: rendering reads it where the exact value is not needed
+
+// A hand's unscaled distance at the nodes of a square grid (exact there, stored as float), read
+// between them by bilinear interpolation. The distance is sqrt(2)-Lipschitz (a round union's
+// gradient is (u grad a + v grad b) / sqrt(u^2 + v^2), at most sqrt(2) long; every other part is a
+// true distance), and the bilinear weights w_i of a cell's corners c_i give
+// sum w_i |p - c_i| <= sqrt(sum w_i |p - c_i|^2) = spacing sqrt(s (1 - s) + t (1 - t))
+// <= spacing / sqrt(2). So an interpolated value is within sqrt(2) spacing / sqrt(2) = spacing of
+// the exact one, plus the float rounding of the nodes (|d| < 30 cm: under 2e-6 cm).
+struct HandField {
+  static constexpr double kSpacing = 0.05;  // cm, unscaled
+  static constexpr double kMargin = 2.5;    // cm beyond the hand's bounds, unscaled
+  Vec2 origin = Vec2::Zero();               // node (0, 0), unscaled local cm
+  int cols = 0, rows = 0;
+  std::vector<float> values;       // row-major, rows along y
+  double error = kSpacing + 1e-5;  // bound on |sampled - exact|, unscaled cm
+
+  // the interpolated distance at grid coordinates (x, y) (node (c, r) at (c, r)); false off the
+  // grid
+  bool Sample(double x, double y, double& d) const {
+    if (!(x >= 0.0 && y >= 0.0 && x < cols - 1 && y < rows - 1)) return false;
+    const int c = static_cast<int>(x), r = static_cast<int>(y);
+    const double fx = x - c, fy = y - r;
+    const float* a = values.data() + static_cast<size_t>(r) * cols + c;
+    const float* b = a + cols;
+    d = (1.0 - fy) * ((1.0 - fx) * a[0] + fx * a[1]) + fy * ((1.0 - fx) * b[0] + fx * b[1]);
+    return true;
+  }
+};
+
+HandField BuildHandField(const HandModel& h) {
+  HandField f;
+  const auto [lo, hi] = HandBounds(h);
+  f.origin = lo - Vec2::Constant(HandField::kMargin);
+  const Vec2 size = hi - lo + Vec2::Constant(2.0 * HandField::kMargin);
+  f.cols = static_cast<int>(std::ceil(size.x() / HandField::kSpacing)) + 1;
+  f.rows = static_cast<int>(std::ceil(size.y() / HandField::kSpacing)) + 1;
+  f.values.resize(static_cast<size_t>(f.cols) * f.rows);
+  for (int r = 0; r < f.rows; ++r) {
+    for (int c = 0; c < f.cols; ++c) {
+      const Vec2 p = f.origin + HandField::kSpacing * Vec2(c, r);
+      f.values[static_cast<size_t>(r) * f.cols + c] =
+          static_cast<float>(HandDistanceUnscaled(h, p));
+    }
+  }
+  return f;
+}
+
+// built on first use, once per process (0.14 to 0.21 million nodes, 0.5 to 0.8 MB, per hand kind)
+const HandField& HandFieldFor(ShapeKind kind) {
+  switch (kind) {
+    case ShapeKind::kHandFive: {
+      static const HandField five = BuildHandField(HandFor(kind));
+      return five;
+    }
+    case ShapeKind::kHandFlat: {
+      static const HandField flat = BuildHandField(HandFor(kind));
+      return flat;
+    }
+    default: {
+      static const HandField cupped = BuildHandField(HandFor(ShapeKind::kHandCupped));
+      return cupped;
+    }
+  }
+}
+
 // ---- hand outlines: rasterize the distance sign finely, trace, then snap to the zero level ----
 
 Contour TraceHandOutline(ShapeKind kind, double scale) {
@@ -227,22 +298,7 @@ Contour TraceHandOutline(ShapeKind kind, double scale) {
   s.scale = scale;
   const auto eval = [&](const Vec2& p) { return LocalDistance(s, nullptr, p); };
 
-  // local bounds from the primitives
-  const HandModel& h = HandFor(kind);
-  Vec2 lo, hi;
-  if (h.cupped) {
-    const double r = kCupRadius + kCupHalfThickness;
-    lo = Vec2(-r, -r);
-    hi = Vec2(r, r);
-  } else {
-    lo = -h.palmHalf;
-    hi = h.palmHalf;
-    for (const Finger& f : h.fingers) {
-      const Vec2 tip = FingerTip(f);
-      lo = lo.cwiseMin(f.base - Vec2::Constant(f.radius)).cwiseMin(tip - Vec2::Constant(f.radius));
-      hi = hi.cwiseMax(f.base + Vec2::Constant(f.radius)).cwiseMax(tip + Vec2::Constant(f.radius));
-    }
-  }
+  auto [lo, hi] = HandBounds(HandFor(kind));
   lo = lo * scale - Vec2::Constant(0.2);
   hi = hi * scale + Vec2::Constant(0.2);
 
@@ -441,6 +497,19 @@ double ShapeDistance(const ContactShape& shape, const Vec2& tablePoint) {
     return LocalDistance(shape, &poly, local);
   }
   return LocalDistance(shape, nullptr, local);
+}
+
+bool SampledHandDistance(const ContactShape& shape, const Vec2& tablePoint, double& distance,
+                         double& error) {
+  if (!IsHand(shape.kind)) return false;
+  const HandField& field = HandFieldFor(shape.kind);
+  const double scale = std::max(shape.scale, 1e-6);
+  const Vec2 grid = (shape.pose.Inverse(tablePoint) / scale - field.origin) / HandField::kSpacing;
+  double d;
+  if (!field.Sample(grid.x(), grid.y(), d)) return false;
+  distance = scale * d;
+  error = scale * field.error;
+  return true;
 }
 
 Contour ShapeOutline(const ContactShape& shape) {
@@ -662,111 +731,191 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
     const double haloReach = hand && haloWidth > 0.0 ? haloWidth : 0.0;
     // the pose's inverse with its rotation computed once
     const double cosA = std::cos(s.pose.angle), sinA = std::sin(s.pose.angle);
-    // a hand's model and scale looked up once (LocalDistance's own hand case, without the switch)
+    // a hand's model, sampled field and scale looked up once
     const HandModel* handModel = hand ? &HandFor(s.kind) : nullptr;
+    const HandField* field = hand ? &HandFieldFor(s.kind) : nullptr;
     const double handScale = std::max(s.scale, 1e-6);
+    const double fieldError = hand ? handScale * field->error : 0.0;  // cm
     auto localAt = [&](int v, int u) {
       const double x = m_tableX.at<float>(v, u) - s.pose.pos.x();
       const double y = m_tableY.at<float>(v, u) - s.pose.pos.y();
       return Vec2(cosA * x + sinA * y, -sinA * x + cosA * y);
     };
-    auto distanceAt = [&](int v, int u) {
-      const Vec2 local = localAt(v, u);
+    auto exactAt = [&](const Vec2& local) {
       if (handModel) return handScale * HandDistanceUnscaled(*handModel, local / handScale);
       return LocalDistance(s, &polygon, local);
     };
+    // a table point's place on a hand field's grid: g = G (t - pos) + g0, G the inverse rotation
+    // over scale times spacing (one affine map a pixel, no division)
+    const double toGrid = hand ? 1.0 / (handScale * HandField::kSpacing) : 0.0;
+    const double gxx = toGrid * cosA, gxy = toGrid * sinA;
+    const Vec2 g0 = hand ? Vec2(-field->origin / HandField::kSpacing) : Vec2::Zero();
+    // a hand's distance from its sampled field, within `error` cm of the exact one; the exact
+    // distance (error 0) where the pixel is off the field's grid, and for other shapes
+    auto distanceAt = [&](int v, int u, double& error) {
+      if (field) {
+        const double x = m_tableX.at<float>(v, u) - s.pose.pos.x();
+        const double y = m_tableY.at<float>(v, u) - s.pose.pos.y();
+        double d;
+        if (field->Sample(gxx * x + gxy * y + g0.x(), gxx * y - gxy * x + g0.y(), d)) {
+          error = fieldError;
+          return handScale * d;
+        }
+      }
+      error = 0.0;
+      return exactAt(localAt(v, u));
+    };
+    const double haloInverse = haloReach > 0.0 ? 1.0 / haloReach : 0.0;
     auto shadeAt = [&](int v, int u, double d) {
       const double coverage =
           std::clamp(0.5 - d / m_cmPerPixel.at<float>(v, u), 0.0, 1.0) * pressure;
       float& c = contact.at<float>(v, u);
       c = std::max(c, static_cast<float>(coverage));
       if (haloReach > 0.0) {
-        const double glow = d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d / haloReach);
+        const double glow = d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d * haloInverse);
         float& hl = halo.at<float>(v, u);
         hl = std::max(hl, static_cast<float>(glow));
       }
     };
-    auto shade = [&](int v, int u) { shadeAt(v, u, distanceAt(v, u)); };
-    // A hand's block outside its fillets (every term at least blend away at every pixel) takes the
-    // least of the terms that can be least there: near a fingertip that is one finger of five.
-    // Terms are 1-Lipschitz, so across the block they change by at most the farthest pixel's
-    // distance from the centre pixel. Returns false where the block is not such a block.
-    const bool handTerms = handModel && !handModel->cupped && handModel->fingers.size() < 8;
-    auto shadeHandBlock = [&](int bu, int bv, int buEnd, int bvEnd) {
-      constexpr int kMaxPixels = 16;
-      if ((buEnd - bu + 1) * (bvEnd - bv + 1) > kMaxPixels) return false;
-      const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
-      const Vec2 centre = localAt(cv, cu) / handScale;
-      Vec2 points[kMaxPixels];
-      double spread2 = 0.0;
-      int n = 0;
-      for (int v = bv; v <= bvEnd; ++v) {
-        for (int u = bu; u <= buEnd; ++u, ++n) {
-          points[n] = localAt(v, u) / handScale;
-          spread2 = std::max(spread2, (points[n] - centre).squaredNorm());
-        }
+    // full coverage and halo: a pixel inside the outline by more than half a pixel
+    auto fillAt = [&](int v, int u) {
+      float& c = contact.at<float>(v, u);
+      c = std::max(c, static_cast<float>(pressure));
+      if (haloReach > 0.0) halo.at<float>(v, u) = 1.0f;
+    };
+    // the halo alone at d > 0 cm outside the outline
+    auto glowAt = [&](int v, int u, double d) {
+      float& hl = halo.at<float>(v, u);
+      hl = std::max(hl, static_cast<float>(1.0 - SmoothStep(d * haloInverse)));
+    };
+    // Coverage is exact. A distance more than half a pixel (plus the sampled distance's error)
+    // outside the outline gives coverage 0, and a halo only nearer than halo_width (smoothstep is 1
+    // from 1 on). More than half a pixel inside it gives full coverage and a halo of 1, whatever
+    // the exact distance. Only the halo outside comes from the sampled distance; nearer the outline
+    // than half a pixel plus the error the exact distance is taken.
+    auto shade = [&](int v, int u) {
+      double error;
+      const double d = distanceAt(v, u, error);
+      const double half = 0.5 * m_cmPerPixel.at<float>(v, u);
+      if (d - error > half) {
+        if (d < haloReach) glowAt(v, u, d);
+        return;
       }
-      // 1e-6 cm keeps rounding on the safe side, as in HandDistanceUnscaled
-      const double change = std::sqrt(spread2) + 1e-6;
-      const int count = 1 + static_cast<int>(handModel->fingers.size());
-      double terms[8];
-      double least = kInf;
-      for (int k = 0; k < count; ++k) {
-        terms[k] = HandTerm(*handModel, k, centre);
-        least = std::min(least, terms[k]);
+      if (d + error < -half) {
+        fillAt(v, u);
+        return;
       }
-      if (least - change < handModel->blend + 1e-6) return false;
-      int active[8], activeCount = 0;
-      for (int k = 0; k < count; ++k) {
-        if (terms[k] - change < least + change) active[activeCount++] = k;
+      shadeAt(v, u, error == 0.0 ? d : exactAt(localAt(v, u)));
+    };
+    // Four pixels u .. u + 3 of row v of a hand, in float, four at a time: the same decisions
+    // as shade, with the float arithmetic's own error (under 1e-4 cm) added to the field's.
+    auto shade4 = [&](int v, int u) {
+#if CV_SIMD128
+      const cv::v_float32x4 x = cv::v_load(m_tableX.ptr<float>(v) + u) -
+                                cv::v_setall_f32(static_cast<float>(s.pose.pos.x()));
+      const cv::v_float32x4 y = cv::v_load(m_tableY.ptr<float>(v) + u) -
+                                cv::v_setall_f32(static_cast<float>(s.pose.pos.y()));
+      const cv::v_float32x4 cxx = cv::v_setall_f32(static_cast<float>(gxx));
+      const cv::v_float32x4 cxy = cv::v_setall_f32(static_cast<float>(gxy));
+      const cv::v_float32x4 gx = cxx * x + cxy * y + cv::v_setall_f32(static_cast<float>(g0.x()));
+      const cv::v_float32x4 gy = cxx * y - cxy * x + cv::v_setall_f32(static_cast<float>(g0.y()));
+      const cv::v_float32x4 zero = cv::v_setzero_f32();
+      const cv::v_float32x4 onGrid = (gx >= zero) & (gy >= zero) &
+                                     (gx < cv::v_setall_f32(static_cast<float>(field->cols - 1))) &
+                                     (gy < cv::v_setall_f32(static_cast<float>(field->rows - 1)));
+      // off the grid: sample node (0, 0) instead, and leave the pixel to shade
+      const cv::v_float32x4 sx = cv::v_select(onGrid, gx, zero);
+      const cv::v_float32x4 sy = cv::v_select(onGrid, gy, zero);
+      const cv::v_int32x4 ci = cv::v_floor(sx), ri = cv::v_floor(sy);
+      const cv::v_float32x4 fx = sx - cv::v_cvt_f32(ci), fy = sy - cv::v_cvt_f32(ri);
+      alignas(16) int cs[4], rs[4], index[4];
+      cv::v_store_aligned(cs, ci);
+      cv::v_store_aligned(rs, ri);
+      for (int k = 0; k < 4; ++k) index[k] = rs[k] * field->cols + cs[k];
+      const float* values = field->values.data();
+      const cv::v_float32x4 a0 = cv::v_lut(values, index), a1 = cv::v_lut(values + 1, index);
+      const cv::v_float32x4 b0 = cv::v_lut(values + field->cols, index);
+      const cv::v_float32x4 b1 = cv::v_lut(values + field->cols + 1, index);
+      const cv::v_float32x4 one = cv::v_setall_f32(1.0f);
+      const cv::v_float32x4 d =
+          cv::v_setall_f32(static_cast<float>(handScale)) *
+          ((one - fy) * ((one - fx) * a0 + fx * a1) + fy * ((one - fx) * b0 + fx * b1));
+      const cv::v_float32x4 error = cv::v_setall_f32(static_cast<float>(fieldError + 1e-4));
+      const cv::v_float32x4 half =
+          cv::v_setall_f32(0.5f) * cv::v_load(m_cmPerPixel.ptr<float>(v) + u);
+      const cv::v_float32x4 outside = onGrid & (d - error > half);
+      const cv::v_float32x4 inside = onGrid & (d + error < zero - half);
+      float* c = contact.ptr<float>(v) + u;
+      cv::v_store(
+          c, cv::v_max(cv::v_load(c),
+                       cv::v_select(inside, cv::v_setall_f32(static_cast<float>(pressure)), zero)));
+      if (haloReach > 0.0) {
+        const cv::v_float32x4 t =
+            cv::v_min(d * cv::v_setall_f32(static_cast<float>(haloInverse)), one);
+        const cv::v_float32x4 glow = one - t * t * (cv::v_setall_f32(3.0f) - t - t);
+        float* hl = halo.ptr<float>(v) + u;
+        cv::v_store(hl, cv::v_max(cv::v_load(hl),
+                                  cv::v_select(inside, one, cv::v_select(outside, glow, zero))));
       }
-      n = 0;
-      for (int v = bv; v <= bvEnd; ++v) {
-        for (int u = bu; u <= buEnd; ++u, ++n) {
-          double d = kInf;
-          for (int i = 0; i < activeCount; ++i)
-            d = std::min(d, HandTerm(*handModel, active[i], points[n]));
-          shadeAt(v, u, handScale * d);
-        }
-      }
-      return true;
+      // the rest (off the grid or near the outline) from the exact distance
+      const int decided = cv::v_signmask(outside | inside);
+      for (int k = 0; k < 4; ++k)
+        if (!(decided & (1 << k))) shadeAt(v, u + k, exactAt(localAt(v, u + k)));
+#else
+      for (int k = 0; k < 4; ++k) shade(v, u + k);
+#endif
     };
     // Within a block of n x n px the distance changes by at most L * 0.71 n px from its centre;
     // 1.5 n px allows L up to 2.1 (round unions have L <= sqrt(2)) and the local scale changing
-    // across the block. A block far outside or deep inside is done at once; otherwise false, and
-    // an 8 px block is tried again as four 4 px blocks before its pixels are evaluated one by
-    // one, which narrows the bands along the outline where every pixel is evaluated.
-    auto fillBlock = [&](int bu, int bv, int buEnd, int bvEnd, int n) {
+    // across the block. A block far outside (nothing to draw) or deep inside (filled), with the
+    // sampled distance's error on the safe side, is decided at once; an 8 px block left undecided
+    // is tried again as four 4 px blocks, which narrows the bands along the outline where every
+    // pixel is shaded.
+    enum BlockCode : uint8_t { kSkip, kFill, kShade };
+    auto classify = [&](int bu, int bv, int buEnd, int bvEnd, int n) {
       const int cv = (bv + bvEnd) / 2, cu = (bu + buEnd) / 2;
       const double cmpp = m_cmPerPixel.at<float>(cv, cu);
-      const double dc = distanceAt(cv, cu);
+      double error;
+      const double dc = distanceAt(cv, cu, error);
       const double reach = 1.5 * n * cmpp;
-      if (dc > reach + haloReach + cmpp) return true;
-      if (dc >= -reach - cmpp) return false;
-      for (int v = bv; v <= bvEnd; ++v) {
-        for (int u = bu; u <= buEnd; ++u) {
-          float& c = contact.at<float>(v, u);
-          c = std::max(c, static_cast<float>(pressure));
-          if (haloReach > 0.0) halo.at<float>(v, u) = 1.0f;
-        }
-      }
-      return true;
+      if (dc - error > reach + haloReach + cmpp) return kSkip;
+      if (dc + error < -reach - cmpp) return kFill;
+      return kShade;
     };
     constexpr int kBlock = 8, kSubBlock = 4;  // px
+    const int blockCols = (uEnd - uBegin) / kSubBlock + 1;
+    const int blockRows = (vEnd - vBegin) / kSubBlock + 1;
+    std::vector<uint8_t>& codes = scratch.blockCodes;
+    codes.assign(static_cast<size_t>(blockCols) * blockRows, kSkip);
     for (int bv = vBegin; bv <= vEnd; bv += kBlock) {
       const int bvEnd = std::min(bv + kBlock - 1, vEnd);
       for (int bu = uBegin; bu <= uEnd; bu += kBlock) {
         const int buEnd = std::min(bu + kBlock - 1, uEnd);
-        if (fillBlock(bu, bv, buEnd, bvEnd, kBlock)) continue;
+        const BlockCode code = classify(bu, bv, buEnd, bvEnd, kBlock);
         for (int sv = bv; sv <= bvEnd; sv += kSubBlock) {
           const int svEnd = std::min(sv + kSubBlock - 1, bvEnd);
           for (int su = bu; su <= buEnd; su += kSubBlock) {
             const int suEnd = std::min(su + kSubBlock - 1, buEnd);
-            if (fillBlock(su, sv, suEnd, svEnd, kSubBlock)) continue;
-            if (handTerms && shadeHandBlock(su, sv, suEnd, svEnd)) continue;
-            for (int v = sv; v <= svEnd; ++v)
-              for (int u = su; u <= suEnd; ++u) shade(v, u);
+            codes[static_cast<size_t>((sv - vBegin) / kSubBlock) * blockCols +
+                  (su - uBegin) / kSubBlock] =
+                code == kShade ? classify(su, sv, suEnd, svEnd, kSubBlock) : code;
           }
+        }
+      }
+    }
+    // then the pixels, row by row in memory order, of the blocks filled or left undecided
+    for (int v = vBegin; v <= vEnd; ++v) {
+      const uint8_t* rowCodes =
+          codes.data() + static_cast<size_t>((v - vBegin) / kSubBlock) * blockCols;
+      for (int k = 0; k < blockCols; ++k) {
+        if (rowCodes[k] == kSkip) continue;
+        const int su = uBegin + k * kSubBlock, suEnd = std::min(su + kSubBlock - 1, uEnd);
+        if (rowCodes[k] == kFill) {
+          for (int u = su; u <= suEnd; ++u) fillAt(v, u);
+        } else if (field && suEnd == su + kSubBlock - 1) {
+          shade4(v, su);
+        } else {
+          for (int u = su; u <= suEnd; ++u) shade(v, u);
         }
       }
     }

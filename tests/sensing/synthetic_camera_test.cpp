@@ -1,5 +1,6 @@
 #include "proxygrasp/sensing/synthetic_camera.h"
 
+#include "proxygrasp/core/rng.h"
 #include "proxygrasp/core/units.h"
 
 #include <gtest/gtest.h>
@@ -84,6 +85,44 @@ TEST(ShapeOutline, PoseMovesTheOutline) {
   ASSERT_EQ(a.cols(), b.cols());
   for (int i = 0; i < a.cols(); i += 97)
     EXPECT_LT((b.col(i) - (Rotate(a.col(i), kPi / 2) + Vec2(10, 5))).norm(), 1e-9);
+}
+
+TEST(SampledHandDistance, StaysWithinItsBoundOfTheExactDistance) {
+  // bilinear between exact nodes 0.05 cm apart (unscaled) of a sqrt(2)-Lipschitz distance: within
+  // sqrt(2) * 0.05 / sqrt(2) = 0.05 cm times the scale (synthetic_camera.cpp derives it); the
+  // worst seen must also be above zero, or the test would pass on the exact distance alone
+  Rng rng(17);
+  for (ShapeKind kind : {ShapeKind::kHandFive, ShapeKind::kHandFlat, ShapeKind::kHandCupped}) {
+    for (double scale : {0.6, 1.0, 1.3}) {
+      // unturned, so that the grid (the hand's bounds and 2.5 cm unscaled beyond) holds the
+      // outline's bounds and 2.4 cm unscaled beyond
+      ContactShape hand = Shape(kind, {30, 23});
+      hand.scale = scale;
+      const auto [lo, hi] = ShapeBounds(hand);
+      const double margin = 2.4 * scale;
+      double worst = 0.0, bound = 0.0;
+      int sampled = 0;
+      for (int i = 0; i < 20000; ++i) {
+        const Vec2 p(rng.Uniform(lo.x() - margin, hi.x() + margin),
+                     rng.Uniform(lo.y() - margin, hi.y() + margin));
+        double d, error;
+        if (!SampledHandDistance(hand, p, d, error)) continue;
+        ++sampled;
+        bound = error;
+        worst = std::max(worst, std::abs(d - ShapeDistance(hand, p)));
+      }
+      SCOPED_TRACE(testing::Message() << "kind " << static_cast<int>(kind) << " scale " << scale);
+      EXPECT_EQ(sampled, 20000);
+      RecordProperty("worst_cm", std::to_string(worst));
+      EXPECT_NEAR(bound, scale * 0.05, scale * 1e-4);
+      EXPECT_LE(worst, bound);
+      EXPECT_GT(worst, 1e-4) << "interpolated, not exact";
+    }
+  }
+  double d, error;
+  EXPECT_FALSE(SampledHandDistance(Shape(ShapeKind::kCircle), {30, 23}, d, error));
+  EXPECT_FALSE(SampledHandDistance(Shape(ShapeKind::kHandFlat), {300, 23}, d, error))
+      << "off the grid";
 }
 
 TEST(SyntheticCamera, FrameFormatAndLevels) {
@@ -253,12 +292,12 @@ TEST(SyntheticCamera, RenderTableImageUsesTheSameModel) {
 }
 
 TEST(SyntheticCamera, EveryPixelFollowsTheImageModel) {
-  // the renderer skips blocks far from a shape, takes a hand's distance from fewer fingers where
-  // it can, and composes the clear table from a precomputed image; a pixel-by-pixel evaluation of
-  // the documented model must give the same image: g (B + (contact - B) c + halo h (1 - c)), with
-  // the coverage c = clamp(0.5 - d / s), the halo h = 1 - smoothstep(d / halo_width) outside
-  // hands, the vignetting gain g = 1 - vignetting r^2 (r from the centre, 1 at the corners) and
-  // the background B = background + gradient (u / (width - 1) - 0.5)
+  // the renderer skips blocks far from a shape, reads a hand's halo from its sampled distance, and
+  // composes the clear table from a precomputed image; a pixel-by-pixel evaluation of the
+  // documented model with the exact distance must give the same image: g (B + (contact - B) c +
+  // halo h (1 - c)), with the coverage c = clamp(0.5 - d / s), the halo h = 1 - smoothstep(d /
+  // halo_width) outside hands, the vignetting gain g = 1 - vignetting r^2 (r from the centre, 1
+  // at the corners) and the background B = background + gradient (u / (width - 1) - 0.5)
   SyntheticCameraParams p;
   p.noise = 0.0;
   p.perspective = 0.05;
@@ -269,28 +308,42 @@ TEST(SyntheticCamera, EveryPixelFollowsTheImageModel) {
       Shape(ShapeKind::kHandCupped, {45, 12}, 1.0), Shape(ShapeKind::kHandFlat, {38, 36}, -0.4)};
   const cv::Mat frame = camera.Render(shapes);
   const double cx = (frame.cols - 1) / 2.0, cy = (frame.rows - 1) / 2.0;
+  // Pixels with only a halo (outside every outline by more than half a pixel) take it from the
+  // sampled distance, within 0.05 cm (scale 1) of the exact one: the halo's slope is at most
+  // 1.5 / halo_width per cm (smoothstep's), so they may differ by up to 45 grey x 1.5 / 1.5 cm x
+  // 0.05 cm = 2.25 grey more. Every other pixel's coverage and halo are exact.
+  const double haloError = p.haloLevel * 1.5 / p.haloWidth * 0.05;
   int worst = 0;
+  double worstHalo = 0.0;
   for (int v = 0; v < frame.rows; ++v) {
     for (int u = 0; u < frame.cols; ++u) {
       const Vec2 t = camera.model().CameraToTable(Vec2(u, v));
       const double s = camera.model().CmPerPixel(Vec2(u, v));
       double c = 0.0, h = 0.0;
+      bool haloOnly = true;
       for (const ContactShape& shape : shapes) {
         const double d = ShapeDistance(shape, t);
         c = std::max(c, std::clamp(0.5 - d / s, 0.0, 1.0));
         if (shape.kind != ShapeKind::kCircle)
           h = std::max(h, d <= 0.0 ? 1.0 : 1.0 - SmoothStep(d / p.haloWidth));
+        if (d <= 0.5 * s + 0.05) haloOnly = false;
       }
       const double gain =
           1.0 - p.vignetting * ((u - cx) * (u - cx) + (v - cy) * (v - cy)) / (cx * cx + cy * cy);
       const double background = p.background + p.gradient * (u / (frame.cols - 1.0) - 0.5);
       const double expected =
           gain * (background + (p.contactLevel - background) * c + p.haloLevel * h * (1.0 - c));
-      worst = std::max(worst, static_cast<int>(std::abs(frame.at<uint8_t>(v, u) - expected) + 0.5));
+      const double difference = std::abs(frame.at<uint8_t>(v, u) - expected);
+      if (haloOnly && h > 0.0)
+        worstHalo = std::max(worstHalo, difference);
+      else
+        worst = std::max(worst, static_cast<int>(difference + 0.5));
     }
   }
   // rounding to 8 bits, and the local pixel size differing slightly between finite differences
   EXPECT_LE(worst, 2);
+  EXPECT_LE(worstHalo, 2.5 + haloError);
+  RecordProperty("worst_halo_grey", std::to_string(worstHalo));
 }
 
 TEST(SyntheticCamera, ReusedBuffersLeaveNothingOfTheLastFrame) {

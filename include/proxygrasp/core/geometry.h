@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -96,6 +97,9 @@ inline double Lerp(double a, double b, double t) {
 }
 
 /// Hermite smoothstep of t clamped to [0, 1]: 3t^2 - 2t^3.
-double SmoothStep(double t);
+inline double SmoothStep(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
 
 }  // namespace pg

@@ -24,6 +24,13 @@ namespace pg {
 /// smooth unions of a palm and finger capsules (their zero level is exact).
 double ShapeDistance(const ContactShape& shape, const Vec2& tablePoint);
 
+/// A hand's distance as the renderer reads it for the halo outside the outline: bilinear between
+/// exact values on a 0.05 cm grid in the hand's unscaled frame, within `error` cm (scale x 0.05 cm)
+/// of ShapeDistance. False for shapes other than hands and where the point is off the grid (more
+/// than 2.5 cm, unscaled, beyond the hand's bounds); there the renderer takes the exact distance.
+bool SampledHandDistance(const ContactShape& shape, const Vec2& tablePoint, double& distance,
+                         double& error);
+
 /// The true outline of a shape in table cm, counter-clockwise, densely sampled (<= 0.05 cm apart
 /// on curves; polygons keep their exact vertices).
 Contour ShapeOutline(const ContactShape& shape);
@@ -98,7 +105,8 @@ class SyntheticCamera {
   // copies never draw into one buffer.
   struct Scratch {
     cv::Mat contact, halo;
-    std::vector<cv::Rect> drawn;  // pixel rectangles written since the last clear
+    std::vector<cv::Rect> drawn;      // pixel rectangles written since the last clear
+    std::vector<uint8_t> blockCodes;  // one shape's 4 px blocks: skip, fill or shade
     Scratch() = default;
     Scratch(const Scratch&) {}
     Scratch& operator=(const Scratch&) {
