@@ -18,6 +18,9 @@ constexpr int kSegmentLength = 32;
 constexpr double kElongation = 1.3;
 // the predicted successor's local descent also tries this many points either side of its start
 constexpr int kDescentReach = 3;
+// a foot found by walking along the contour (Feet) that lies farther than this many of the
+// contour's mean spacings is searched for again over the whole contour
+constexpr double kFootRecheck = 2.0;
 // the nearest-point grid has at most this many cells along a side
 constexpr int64_t kGridCells = 256;
 
@@ -566,6 +569,17 @@ std::vector<Foot> Feet(const Contour& c, const Contour& q) {
   const int m = static_cast<int>(c.cols());
   std::vector<Foot> feet(n);
   const double step = static_cast<double>(m) / std::max(n, 1);
+  // A walk that fell behind or ahead where c gained or lost points in one place (a hand sliding
+  // off the table's edge gains a run of points along it) can settle on a neighbouring finger, a
+  // finger's width away. A foot farther than kFootRecheck spacings of c is searched again over
+  // the whole of c, and the walk goes on from there.
+  double spacing2 = 0.0;
+  if (m > 1) {
+    double perimeter = 0.0;
+    for (int j = 0; j < m; ++j) perimeter += (c.col(WrapNear(j + 1, m)) - c.col(j)).norm();
+    const double reach = kFootRecheck * perimeter / m;
+    spacing2 = reach * reach;
+  }
   double carry = 0.0;
   int vertex = -1;
   for (int k = 0; k < n; ++k) {
@@ -577,6 +591,14 @@ std::vector<Foot> Feet(const Contour& c, const Contour& q) {
       hint = vertex + advance;
     }
     feet[k] = NearestFoot(c, q.col(k), hint, &vertex);
+    if (hint >= 0 && (feet[k].point - q.col(k)).squaredNorm() > spacing2) {
+      int whole = -1;
+      const Foot global = NearestFoot(c, q.col(k), -1, &whole);
+      if ((global.point - q.col(k)).squaredNorm() < (feet[k].point - q.col(k)).squaredNorm()) {
+        feet[k] = global;
+        vertex = whole;
+      }
+    }
   }
   return feet;
 }
