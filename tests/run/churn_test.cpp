@@ -103,11 +103,13 @@ TEST(Churn, GrowingAndShrinkingContactsStillCreateAndDelete) {
 
 TEST(Churn, AHandSlidingInOverTheTablesEdgeKeepsItsParticles) {
   // A five-finger hand (scale 0.7, thumb towards -x) starts with its thumb side beyond the table's
-  // left edge and slides in at 10 cm/s. Its sensed contour is the visible outline plus a run
-  // along the edge (the image border), at most the hand's width there: the palm and thumb, under
-  // 10 cm x 0.7 = 7 cm, 24 points at 0.3 cm. As the hand comes in, that run goes (its points
-  // deleted) and the outline it hid appears (points created), so deleted <= 24 + 2 (sensing
-  // jitter) and created <= the growth of the point count + deleted. Nothing else changes shape.
+  // left edge and slides in at 10 cm/s (the churn scenes' back-and-forth path: in to x = 10 cm,
+  // then back to 8, where the whole hand is on the table). Its sensed contour is the visible
+  // outline plus a run along the edge (the image border), at most the hand's width there: the
+  // palm and thumb, under 10 cm x 0.7 = 7 cm, 24 points at 0.3 cm. As the hand comes in, that run
+  // goes (its points deleted) and the outline it hid appears (points created), so deleted <= 24 +
+  // 2 (sensing jitter) and created <= the growth of the point count + deleted. Nothing else
+  // changes shape.
   // (Before the contour walk was checked, the motion estimate slid the hand by a finger in such
   // frames and a hundred or more particles of the contact were replaced in one frame.)
   ChurnScene scene;
