@@ -208,8 +208,7 @@ MaybeError LayeredWorld::Build(const PhysicsParams& physics, const TableParams& 
 void LayeredWorld::ApplyPlan(const ParticlePlan& plan) {
   Impl& w = *m_impl;
   if (w.layers.empty()) return;
-  int deleted = 0;
-  std::vector<uint8_t> gone;  // per particle entry: deleted by this plan
+  std::vector<uint8_t> gone;  // per particle entry: deleted by this plan (empty: none was)
   for (const PlannedParticle& pp : plan.particles) {
     auto it = w.particleIndex.find(pp.id);
     switch (pp.action) {
@@ -252,12 +251,11 @@ void LayeredWorld::ApplyPlan(const ParticlePlan& plan) {
         w.particleIndex.erase(it);
         gone.resize(w.particles.size(), 0);
         gone[index] = 1;
-        ++deleted;
         break;
       }
     }
   }
-  if (deleted == 0) return;
+  if (gone.empty()) return;
   // one pass removes the deleted entries keeping creation order (deterministic, and what
   // Particles() promises) and renumbers the index once: erasing and renumbering per deletion cost
   // O(particles) each, milliseconds in a frame where hands' contours shed hundreds of particles
