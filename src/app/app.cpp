@@ -686,6 +686,8 @@ void App::Impl::StepInput() {
       break;
     }
   }
+  // the sensing view shows every filter stage of the whole frame
+  sim.SetWholeStages(viewOptions.sensing);
   Result<FrameStatus> stepped = frames.Step(sim);
   if (!stepped.ok()) {
     runError = stepped.error().Format();

@@ -152,6 +152,7 @@ int RunSense(const SenseOptions& o) {
   SimulationOptions setup;
   setup.stages = RunStages::kThroughTracking;
   setup.cameraBackground = script;
+  setup.wholeStages = !o.preview.empty();  // the preview shows every stage of the whole frame
   Simulation sim;
   bool started = false;
   auto start = [&](cv::Size size) -> MaybeError {

@@ -24,6 +24,7 @@ MaybeError Simulation::Start(const Level& level, const LevelParams& params,
     if (s->loc.file.empty()) s->loc.file = level.path;
     return s;
   }
+  next.m_sensor.SetWholeStages(options.wholeStages);
   // the synthetic camera knows its clear table exactly: it serves as the captured background,
   // unless the sensing parameters ask to capture one from the first frames
   if (options.cameraBackground && params.sensing.backgroundFrames == 0 &&

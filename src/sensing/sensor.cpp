@@ -257,7 +257,8 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
     m_warmup = true;
   }
 
-  Filter();
+  // the whole frame's stages when they are looked at, and where the threshold reads them all
+  Filter(m_wholeStages || wantTableImage || m_params.thresholdMode == ThresholdMode::kAuto);
 
   // threshold, and an opening that removes specks and one-pixel bridges (no closing: holes are
   // ignored anyway, and closing would fill finger crotches and join fingers)
@@ -292,7 +293,7 @@ double Sensor::PixelsPerCm() const {
   return 1.0 / m_model.CmPerPixel(centre);
 }
 
-void Sensor::Filter() {
+void Sensor::Filter(bool whole) {
   const double pxPerCm = PixelsPerCm();
   // background subtracted: what is brighter than the clear table (darker is clipped to 0)
   cv::subtract(m_grey, m_background, m_subtracted);
@@ -312,6 +313,10 @@ void Sensor::Filter() {
   // high-pass: minus a wide box blur of itself, at most highpass_cap, so that wide glows (palms and
   // arms above the surface, uneven light) fade while small bright contacts stay
   const int width = static_cast<int>(std::lround(m_params.highpassWidth * pxPerCm)) | 1;
+  if (m_params.highpassWidth > 0.0 && width >= 3 && m_params.highpassCap > 0.0 && !whole) {
+    HighpassWhereContactsCanBe(width);
+    return;
+  }
   if (m_params.highpassWidth > 0.0 && width >= 3 && m_params.highpassCap > 0.0) {
     cv::blur(m_smoothed, m_wide, cv::Size(width, width), cv::Point(-1, -1), cv::BORDER_REPLICATE);
     if (m_params.highpassCap < 255.0) cv::min(m_wide, m_params.highpassCap, m_wide);
@@ -327,6 +332,109 @@ void Sensor::Filter() {
     m_highpass.convertTo(m_normalized, CV_8UC1, m_params.gain);
   } else {
     m_normalized = m_highpass;
+  }
+}
+
+void Sensor::HighpassWhereContactsCanBe(int width) {
+  // The high-pass never adds: highpass = smoothed - min(wide, cap) <= smoothed, and the gain and
+  // the threshold are monotonic. So a pixel whose smoothed level s does not pass the threshold
+  // once gained (gain s, rounded as convertTo rounds, not above the threshold) passes it after
+  // the high-pass neither. Only tiles holding a pixel that could pass are worked out; the binary
+  // image elsewhere is 0, as it would be had every pixel been worked out.
+  // The lowest smoothed level that could pass, found with the chain's own arithmetic (convertTo,
+  // then threshold) on every 8-bit level, one below it to be safe from any rounding.
+  cv::Mat levels(1, 256, CV_8UC1), passing;
+  for (int v = 0; v < 256; ++v) levels.at<uint8_t>(0, v) = static_cast<uint8_t>(v);
+  if (m_params.gain != 1.0) levels.convertTo(passing, CV_8UC1, m_params.gain);
+  else passing = levels;
+  cv::threshold(passing, passing, m_params.threshold, 255, cv::THRESH_BINARY);
+  int lowest = 256;
+  for (int v = 0; v < 256; ++v) {
+    if (passing.at<uint8_t>(0, v) != 0) {
+      lowest = std::max(0, v - 1);
+      break;
+    }
+  }
+
+  const cv::Size size = m_smoothed.size();
+  Unshare(m_highpass, {&m_subtracted, &m_smoothed});
+  m_highpass.create(size, CV_8UC1);
+  m_highpass.setTo(0);
+  m_wide.create(size, CV_8UC1);
+  m_wide.setTo(0);
+  const bool gained = m_params.gain != 1.0;
+  if (gained) {
+    Unshare(m_normalized, {&m_subtracted, &m_smoothed, &m_highpass});
+    m_normalized.create(size, CV_8UC1);
+    m_normalized.setTo(0);
+  } else {
+    m_normalized = m_highpass;
+  }
+  if (lowest > 255) return;
+
+  // tiles of kTileRows x kTileCols px: mark those with a pixel at or above `lowest`
+  constexpr int kTileRows = 32, kTileCols = 64;
+  const int tileRows = (size.height + kTileRows - 1) / kTileRows;
+  const int tileCols = (size.width + kTileCols - 1) / kTileCols;
+  m_tileMarks.assign(static_cast<size_t>(tileRows * tileCols), 0);
+  const uint8_t floor = static_cast<uint8_t>(lowest);
+  for (int y = 0; y < size.height; ++y) {
+    const uint8_t* row = m_smoothed.ptr<uint8_t>(y);
+    uint8_t* marks = &m_tileMarks[static_cast<size_t>((y / kTileRows) * tileCols)];
+    for (int tc = 0; tc < tileCols; ++tc) {
+      if (marks[tc] != 0) continue;
+      const int x0 = tc * kTileCols, x1 = std::min(size.width, x0 + kTileCols);
+      uint8_t any = 0;
+      for (int x = x0; x < x1; ++x) any |= static_cast<uint8_t>(row[x] >= floor);
+      marks[tc] = any;
+    }
+  }
+
+  // Each group of marked tiles (touching at a side or a corner) is worked out as one rectangle,
+  // its bounding box: the blur of a rectangle reads width / 2 px all round it, so few large
+  // rectangles read less than many small ones. The blur of a part of an image reads the pixels
+  // around that part (the image's own border is replicated), so its values are those of the
+  // whole image's blur. Rectangles of two groups may overlap; the overlap is worked out twice,
+  // with the same values.
+  const cv::Size box(width, width);
+  m_tileStack.clear();
+  for (int start = 0; start < tileRows * tileCols; ++start) {
+    if (m_tileMarks[static_cast<size_t>(start)] != 1) continue;
+    // flood the group from `start`, marking its tiles 2 (done)
+    int r0 = tileRows, r1 = -1, c0 = tileCols, c1 = -1;
+    m_tileMarks[static_cast<size_t>(start)] = 2;
+    m_tileStack.push_back(start);
+    while (!m_tileStack.empty()) {
+      const int t = m_tileStack.back();
+      m_tileStack.pop_back();
+      const int tr = t / tileCols, tc = t % tileCols;
+      r0 = std::min(r0, tr);
+      r1 = std::max(r1, tr);
+      c0 = std::min(c0, tc);
+      c1 = std::max(c1, tc);
+      for (int dr = -1; dr <= 1; ++dr) {
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int nr = tr + dr, nc = tc + dc;
+          if (nr < 0 || nr >= tileRows || nc < 0 || nc >= tileCols) continue;
+          uint8_t& mark = m_tileMarks[static_cast<size_t>(nr * tileCols + nc)];
+          if (mark != 1) continue;
+          mark = 2;
+          m_tileStack.push_back(nr * tileCols + nc);
+        }
+      }
+    }
+    const int x0 = c0 * kTileCols, y0 = r0 * kTileRows;
+    const cv::Rect rect(x0, y0, std::min(size.width, (c1 + 1) * kTileCols) - x0,
+                        std::min(size.height, (r1 + 1) * kTileRows) - y0);
+    cv::Mat wide = m_wide(rect);
+    cv::blur(m_smoothed(rect), wide, box, cv::Point(-1, -1), cv::BORDER_REPLICATE);
+    if (m_params.highpassCap < 255.0) cv::min(wide, m_params.highpassCap, wide);
+    cv::Mat highpass = m_highpass(rect);
+    cv::subtract(m_smoothed(rect), wide, highpass);
+    if (gained) {
+      cv::Mat out = m_normalized(rect);
+      highpass.convertTo(out, CV_8UC1, m_params.gain);
+    }
   }
 }
 

@@ -75,6 +75,33 @@ TEST(Simulation, ShapesInputGoesThroughTheCamera) {
   EXPECT_EQ(sim.cameraImage().cols, level.params.camera.width);
 }
 
+TEST(Simulation, SensorWorksOutTheWholeFrameOnlyWhenItsStagesAreViewed) {
+  const Level level = BoxLevel();
+  ContactShape finger;
+  finger.pose.pos = Vec2(30, 23);
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  EXPECT_FALSE(sim.sensor().WholeStages());  // the pipeline reads contours only
+  ASSERT_FALSE(sim.StepShapes(std::span<const ContactShape>(&finger, 1)));
+  ASSERT_EQ(sim.stats().contacts, 1);
+  const cv::Mat partial = sim.sensor().StageImage(SensingStage::kHighpass).clone();
+  const cv::Mat binary = sim.sensor().StageImage(SensingStage::kBinary).clone();
+
+  SimulationOptions viewed;
+  viewed.wholeStages = true;  // sense --preview, play's sensing view
+  Simulation seen;
+  ASSERT_FALSE(seen.Start(level, level.params, viewed));
+  EXPECT_TRUE(seen.sensor().WholeStages());
+  ASSERT_FALSE(seen.StepShapes(std::span<const ContactShape>(&finger, 1)));
+  // the same contours from the same thresholded image; the high-pass of the whole frame shows
+  // the camera's noise where the partial one skipped tiles far from the fingertip
+  EXPECT_EQ(cv::norm(seen.sensor().StageImage(SensingStage::kBinary), binary, cv::NORM_INF), 0.0);
+  const cv::Mat& whole = seen.sensor().StageImage(SensingStage::kHighpass);
+  EXPECT_GT(cv::countNonZero(whole), cv::countNonZero(partial));
+  seen.SetWholeStages(false);
+  EXPECT_FALSE(seen.sensor().WholeStages());
+}
+
 TEST(Simulation, BadFrameIsAnErrorNamingTheFrame) {
   const Level level = BoxLevel();
   Simulation sim;

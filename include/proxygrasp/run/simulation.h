@@ -63,6 +63,10 @@ struct SimulationOptions {
   /// What FrameStats' stage times measure: wall time, or the CPU time of the thread that steps
   /// (`proxygrasp bench`; physics worker threads are not counted).
   TimerClock stageClock = TimerClock::kWall;
+  /// Every sensing stage image covers the whole frame (views of the stages: `sense --preview`,
+  /// the sensing view of `play`). Off, the sensor works the high-pass out only where a contact
+  /// can be (Sensor::SetWholeStages); the contours are the same.
+  bool wholeStages = false;
 };
 
 /// One run of a level through the pipeline.
@@ -114,6 +118,9 @@ class Simulation {
   const SyntheticCamera& camera() const { return *m_camera; }
   /// The sensing stage, with the images of its filter chain for the last frame.
   const Sensor& sensor() const { return m_sensor; }
+  /// Whether the sensor's stage images cover the whole frame from the next frame on
+  /// (SimulationOptions::wholeStages).
+  void SetWholeStages(bool whole) { m_sensor.SetWholeStages(whole); }
 
   /// The last frame's camera image, contour frame, contacts, plan and stats.
   const cv::Mat& cameraImage() const { return m_image; }

@@ -69,8 +69,17 @@ class Sensor {
   const cv::Mat& Background() const { return m_background; }
 
   /// The image of one stage of the last frame (empty before the first frame; the background is
-  /// the one learned so far, ready for the next frame).
+  /// the one learned so far, ready for the next frame). With SetWholeStages(false) the high-pass
+  /// and gained images (and the high-pass's wide blur) hold their values only in the tiles where a
+  /// contact could be, and 0 elsewhere.
   const cv::Mat& StageImage(SensingStage stage) const;
+  /// Whether every stage image covers the whole frame (true, the default: for viewing and tuning
+  /// the stages) or the high-pass and the gain are worked out only in the tiles where some pixel
+  /// is bright enough to pass the threshold (false: the pipeline, which reads only the contours).
+  /// The contours are the same bits either way. Frames that ask for the table image, and the
+  /// automatic threshold (which reads the whole gained image), always work on the whole frame.
+  void SetWholeStages(bool whole) { m_wholeStages = whole; }
+  bool WholeStages() const { return m_wholeStages; }
 
   /// The threshold used on the last frame, 8-bit grey above background.
   double LastThreshold() const { return m_lastThreshold; }
@@ -88,7 +97,9 @@ class Sensor {
   // the border pixels moved onto the sub-pixel edge (a long border's thinned where straight)
   void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out);
   void BuildTableMaps();
-  void Filter();
+  void Filter(bool whole);
+  // the high-pass and the gain in the tiles where a contact can be (SetWholeStages(false))
+  void HighpassWhereContactsCanBe(int width);
   void LearnBackground(double time);
   double PixelsPerCm() const;
 
@@ -113,6 +124,7 @@ class Sensor {
   cv::Mat m_captureSum;  // CV_32F, while averaging the first frames
   int m_captured = 0;    // frames averaged so far
   double m_lastThreshold = 0.0;
+  bool m_wholeStages = true;
 
   // the stage images, reused every frame
   cv::Mat m_grey;        // CV_8UC1
@@ -123,6 +135,8 @@ class Sensor {
   cv::Mat m_binary;      // CV_8UC1 0/255
   cv::Mat m_wide;        // CV_8UC1 scratch: the wide blur of the high-pass
   cv::Mat m_still;       // CV_8UC1 scratch: where nothing touches
+  std::vector<uint8_t> m_tileMarks;  // per tile: some pixel there can pass the threshold
+  std::vector<int> m_tileStack;      // tiles of a group still to visit
   cv::Mat m_kernel;
   std::vector<std::vector<cv::Point>> m_contours;
   std::vector<cv::Vec4i> m_hierarchy;
