@@ -345,8 +345,10 @@ void Sensor::HighpassWhereContactsCanBe(int width) {
   // then threshold) on every 8-bit level, one below it to be safe from any rounding.
   cv::Mat levels(1, 256, CV_8UC1), passing;
   for (int v = 0; v < 256; ++v) levels.at<uint8_t>(0, v) = static_cast<uint8_t>(v);
-  if (m_params.gain != 1.0) levels.convertTo(passing, CV_8UC1, m_params.gain);
-  else passing = levels;
+  if (m_params.gain != 1.0)
+    levels.convertTo(passing, CV_8UC1, m_params.gain);
+  else
+    passing = levels;
   cv::threshold(passing, passing, m_params.threshold, 255, cv::THRESH_BINARY);
   int lowest = 256;
   for (int v = 0; v < 256; ++v) {

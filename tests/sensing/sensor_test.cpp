@@ -728,8 +728,11 @@ TEST(Sensor, HighpassOnlyWhereContactsCanBeGivesTheSameContours) {
   struct Setting {
     double threshold, gain, cap;
   };
-  const Setting settings[] = {{30.0, 1.0, 40.0}, {60.0, 1.0, 40.0}, {10.0, 1.0, 255.0},
-                              {40.0, 2.7, 40.0}, {30.0, 0.6, 40.0}};
+  const Setting settings[] = {{30.0, 1.0, 40.0},
+                              {60.0, 1.0, 40.0},
+                              {10.0, 1.0, 255.0},
+                              {40.0, 2.7, 40.0},
+                              {30.0, 0.6, 40.0}};
   int frames = 0;
   for (const Setting& setting : settings) {
     SensingParams sp;

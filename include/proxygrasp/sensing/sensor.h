@@ -127,14 +127,14 @@ class Sensor {
   bool m_wholeStages = true;
 
   // the stage images, reused every frame
-  cv::Mat m_grey;        // CV_8UC1
-  cv::Mat m_subtracted;  // CV_8UC1 frame - background
-  cv::Mat m_smoothed;    // CV_8UC1
-  cv::Mat m_highpass;    // CV_8UC1
-  cv::Mat m_normalized;  // CV_8UC1 after the gain: what is thresholded
-  cv::Mat m_binary;      // CV_8UC1 0/255
-  cv::Mat m_wide;        // CV_8UC1 scratch: the wide blur of the high-pass
-  cv::Mat m_still;       // CV_8UC1 scratch: where nothing touches
+  cv::Mat m_grey;                    // CV_8UC1
+  cv::Mat m_subtracted;              // CV_8UC1 frame - background
+  cv::Mat m_smoothed;                // CV_8UC1
+  cv::Mat m_highpass;                // CV_8UC1
+  cv::Mat m_normalized;              // CV_8UC1 after the gain: what is thresholded
+  cv::Mat m_binary;                  // CV_8UC1 0/255
+  cv::Mat m_wide;                    // CV_8UC1 scratch: the wide blur of the high-pass
+  cv::Mat m_still;                   // CV_8UC1 scratch: where nothing touches
   std::vector<uint8_t> m_tileMarks;  // per tile: some pixel there can pass the threshold
   std::vector<int> m_tileStack;      // tiles of a group still to visit
   cv::Mat m_kernel;
