@@ -29,7 +29,7 @@ inline constexpr const char* kPlacementNames[] = {"raycast", "ground"};
 /// Parameters of the proxies stage. Section [proxies] of a level.
 struct ProxyParams {
   ProxyMode mode = ProxyMode::kPersistent;
-  MatchAlgorithm algorithm = MatchAlgorithm::kFast;
+  MatchAlgorithm algorithm = MatchAlgorithm::kWindowed;
   int window = 8;              ///< n: the window sum runs over i = -n/2..n/2 around each match
                                ///< (integer halves: an odd n sums as n - 1 does), points
   int countHysteresis = 1;     ///< fast and windowed: a continuing contact keeps its point
