@@ -14,25 +14,6 @@
 namespace pg {
 namespace {
 
-MatchResult Match(const ProxyParams& params, const Contour& prev, const Contour& cur,
-                  int* fallbacks) {
-  const int window = std::clamp(params.window, 0, kMaxMatchWindow);
-  switch (params.algorithm) {
-    case MatchAlgorithm::kReference:
-      return MatchReference(prev, cur, window);
-    case MatchAlgorithm::kWindowed: {
-      const std::vector<int> predicted = PredictSuccessors(prev, cur);
-      MatchResult r =
-          MatchWindowed(prev, cur, window, predicted, params.searchRadius, params.fallbackScore);
-      *fallbacks += r.fallbacks;
-      return r;
-    }
-    case MatchAlgorithm::kFast:
-      break;
-  }
-  return MatchFast(prev, cur, window);
-}
-
 // the contour point nearest j (by index distance, the preceding one first on equal distance)
 // whose predecessor is known; -1 when there is none
 int NearestKept(const std::vector<int>& pred, int j) {
@@ -159,6 +140,25 @@ void Count(ParticlePlan& plan) {
 }
 
 }  // namespace
+
+MatchResult MatchSuccessors(const ProxyParams& params, const Contour& prev, const Contour& cur,
+                            int* fallbacks) {
+  const int window = std::clamp(params.window, 0, kMaxMatchWindow);
+  switch (params.algorithm) {
+    case MatchAlgorithm::kReference:
+      return MatchReference(prev, cur, window);
+    case MatchAlgorithm::kWindowed: {
+      const std::vector<int> predicted = PredictSuccessors(prev, cur);
+      MatchResult r =
+          MatchWindowed(prev, cur, window, predicted, params.searchRadius, params.fallbackScore);
+      if (fallbacks) *fallbacks += r.fallbacks;
+      return r;
+    }
+    case MatchAlgorithm::kFast:
+      break;
+  }
+  return MatchFast(prev, cur, window);
+}
 
 MaybeError ProxyStage::SetParams(const ProxyParams& params) {
   if (MaybeError s = CheckDescribed("proxies", params)) return s;
@@ -395,9 +395,9 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   const int m = static_cast<int>(cur.cols());
 
   // successors of the previous points, predecessors of the current ones
-  const MatchResult match =
-      m > 0 ? Match(params, compensate ? prevMatched : prev, cur, &m_stats.windowedFallbacks)
-            : MatchResult{std::vector<int>(n, -1), {}, 0};
+  const MatchResult match = m > 0 ? MatchSuccessors(params, compensate ? prevMatched : prev, cur,
+                                                    &m_stats.windowedFallbacks)
+                                  : MatchResult{std::vector<int>(n, -1), {}, 0};
   const std::vector<int> pred = m > 0 ? Predecessors(match, m) : std::vector<int>{};
 
   // the particle's known base height and position: feedback first, its own record otherwise

@@ -683,4 +683,40 @@ TEST(ProxyStage, ModeSwitchEndsTheOtherModesParticles) {
 }
 
 }  // namespace
+// MatchSuccessors is the search the stage runs: each algorithm as its own function gives it, and
+// the windowed search reports the points it handed to the exact search.
+TEST(MatchSuccessors, RunsTheSearchTheParametersName) {
+  const Contour prev = Sensed(HandOutline());
+  // everyday motion (docs/proxies.md): the band answers every point
+  const Contour near =
+      Sensed(Moved(HandOutline(), Pose2(Vec2(0.4, -0.2), DegToRad(2.0))), kSpacing, 0.1);
+  // far motion: the prediction misses and points go to the exact search
+  const Contour far =
+      Sensed(Moved(HandOutline(), Pose2(Vec2(3.0, 1.0), DegToRad(15.0))), kSpacing, 0.1);
+  ProxyParams params;
+  EXPECT_EQ(params.algorithm, MatchAlgorithm::kWindowed);  // the default
+  const int window = params.window;
+  for (const Contour* cur : {&near, &far}) {
+    params.algorithm = MatchAlgorithm::kReference;
+    EXPECT_EQ(MatchSuccessors(params, prev, *cur).successor,
+              MatchReference(prev, *cur, window).successor);
+    params.algorithm = MatchAlgorithm::kFast;
+    EXPECT_EQ(MatchSuccessors(params, prev, *cur).successor,
+              MatchFast(prev, *cur, window).successor);
+    params.algorithm = MatchAlgorithm::kWindowed;
+    int fallbacks = 0;
+    const MatchResult r = MatchSuccessors(params, prev, *cur, &fallbacks);
+    const std::vector<int> predicted = PredictSuccessors(prev, *cur);
+    const MatchResult direct =
+        MatchWindowed(prev, *cur, window, predicted, params.searchRadius, params.fallbackScore);
+    EXPECT_EQ(r.successor, direct.successor);
+    EXPECT_EQ(fallbacks, direct.fallbacks);
+    if (cur == &near) {
+      EXPECT_EQ(fallbacks, 0);
+    } else {
+      EXPECT_GT(fallbacks, 0);
+    }
+  }
+}
+
 }  // namespace pg

@@ -6,6 +6,7 @@
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/core/ids.h"
 #include "proxygrasp/proxies/instant_proxies.h"
+#include "proxygrasp/proxies/matching.h"
 #include "proxygrasp/proxies/types.h"
 #include "proxygrasp/sensing/types.h"
 #include "proxygrasp/tracking/types.h"
@@ -28,6 +29,13 @@ struct ProxyStageStats {
   int indexShifts = 0;   ///< contours whose indices crept off their targets and were moved back
   int missingImage = 0;  ///< instant-mode frames without a table image (no particles)
 };
+
+/// The successors of a contact's previous contour points on its current contour, by the search
+/// `params.algorithm` names (window `params.window`; the windowed search with
+/// `params.search_radius` and `params.fallback_score`), as the stage matches. Points the windowed
+/// search handed to the exact search are added to `*fallbacks` when it is given.
+MatchResult MatchSuccessors(const ProxyParams& params, const Contour& prev, const Contour& cur,
+                            int* fallbacks = nullptr);
 
 /// The proxies stage and its state across frames.
 class ProxyStage {
