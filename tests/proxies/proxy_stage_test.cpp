@@ -717,6 +717,19 @@ TEST(MatchSuccessors, RunsTheSearchTheParametersName) {
       EXPECT_GT(fallbacks, 0);
     }
   }
+  // a fingertip's contour (17 points) is narrower than the band (25): the full search, every
+  // point counted as handed to it, as MatchWindowed answers
+  const Contour tip = Sensed(CircleOutline(0.8));
+  const Contour tipMoved = Sensed(Moved(CircleOutline(0.8), Pose2(Vec2(0.3, 0.1), 0.0)));
+  ASSERT_LT(tipMoved.cols(), 2 * params.searchRadius + 1);
+  int fallbacks = 0;
+  const MatchResult r = MatchSuccessors(params, tip, tipMoved, &fallbacks);
+  const MatchResult direct = MatchWindowed(tip, tipMoved, window, PredictSuccessors(tip, tipMoved),
+                                           params.searchRadius, params.fallbackScore);
+  EXPECT_EQ(r.successor, direct.successor);
+  EXPECT_EQ(r.score, direct.score);
+  EXPECT_EQ(fallbacks, direct.fallbacks);
+  EXPECT_EQ(fallbacks, tip.cols());
 }
 
 }  // namespace pg
