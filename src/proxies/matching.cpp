@@ -562,9 +562,18 @@ Foot NearestFoot(const Contour& c, const Vec2& q, int hint, int* vertex) {
   return foot;
 }
 
+// (kFootRecheck mean spacings of c)^2, from its perimeter (0 for fewer than 2 points)
+double FootRecheck2(const Contour& c, double perimeter) {
+  const int m = static_cast<int>(c.cols());
+  if (m < 2) return 0.0;
+  const double reach = kFootRecheck * perimeter / m;
+  return reach * reach;
+}
+
 // the feet of every point of q on c, each search starting where the last point's ended,
-// advanced by the length ratio
-std::vector<Foot> Feet(const Contour& c, const Contour& q) {
+// advanced by the length ratio. `recheck2` is FootRecheck2(c, its perimeter): the caller works it
+// out once for the several calls on the same c.
+std::vector<Foot> Feet(const Contour& c, const Contour& q, double recheck2) {
   const int n = static_cast<int>(q.cols());
   const int m = static_cast<int>(c.cols());
   std::vector<Foot> feet(n);
@@ -573,13 +582,6 @@ std::vector<Foot> Feet(const Contour& c, const Contour& q) {
   // off the table's edge gains a run of points along it) can settle on a neighbouring finger, a
   // finger's width away. A foot farther than kFootRecheck spacings of c is searched again over
   // the whole of c, and the walk goes on from there.
-  double spacing2 = 0.0;
-  if (m > 1) {
-    double perimeter = 0.0;
-    for (int j = 0; j < m; ++j) perimeter += (c.col(WrapNear(j + 1, m)) - c.col(j)).norm();
-    const double reach = kFootRecheck * perimeter / m;
-    spacing2 = reach * reach;
-  }
   double carry = 0.0;
   int vertex = -1;
   for (int k = 0; k < n; ++k) {
@@ -591,7 +593,7 @@ std::vector<Foot> Feet(const Contour& c, const Contour& q) {
       hint = vertex + advance;
     }
     feet[k] = NearestFoot(c, q.col(k), hint, &vertex);
-    if (hint >= 0 && (feet[k].point - q.col(k)).squaredNorm() > spacing2) {
+    if (hint >= 0 && (feet[k].point - q.col(k)).squaredNorm() > recheck2) {
       int whole = -1;
       const Foot global = NearestFoot(c, q.col(k), -1, &whole);
       if ((global.point - q.col(k)).squaredNorm() < (feet[k].point - q.col(k)).squaredNorm()) {
@@ -643,6 +645,7 @@ ContourMotion EstimateMotion(const Contour& prev, const Contour& cur) {
   Vec2 shift = cCur - cPrev;  // q = R(theta) (p - cPrev) + cPrev + shift
 
   bool turnLocked = false;
+  const double recheck2 = FootRecheck2(cur, Perimeter(cur));
   std::vector<double> dist(n);
   Contour q(2, n);
   for (int it = 0; it < kAlignIterations; ++it) {
@@ -653,7 +656,7 @@ ContourMotion EstimateMotion(const Contour& prev, const Contour& cur) {
       const Vec2 d = prev.col(k) - cPrev;
       q.col(k) = Vec2(cs * d.x() - sn * d.y(), sn * d.x() + cs * d.y()) + centre;
     }
-    const std::vector<Foot> feet = Feet(cur, q);
+    const std::vector<Foot> feet = Feet(cur, q, recheck2);
     for (int k = 0; k < n; ++k) dist[k] = (q.col(k) - feet[k].point).norm();
     std::vector<double> sorted = dist;
     std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
@@ -705,7 +708,7 @@ ContourMotion EstimateMotion(const Contour& prev, const Contour& cur) {
   r.motion.angle = theta;
   r.motion.pos = cPrev + shift - Rotate(cPrev, theta);
   const Contour moved = Transformed(prev, r.motion);
-  const std::vector<Foot> feet = Feet(cur, moved);
+  const std::vector<Foot> feet = Feet(cur, moved, recheck2);
   double sum = 0.0;
   for (int k = 0; k < n; ++k) sum += (moved.col(k) - feet[k].point).squaredNorm();
   r.residual = std::sqrt(sum / n);
@@ -726,7 +729,8 @@ Contour ResampleInPhase(const Contour& cur, const Contour& reference, int count)
   // the phase: where reference point k projects, less where its k-th share of the perimeter lies
   double phase = 0.0;
   if (n > 0 && reference.allFinite()) {
-    const std::vector<Foot> feet = Feet(cur, reference);
+    // the perimeter is the arc length summed in the same order
+    const std::vector<Foot> feet = Feet(cur, reference, FootRecheck2(cur, total));
     const double refStep = total / n;
     std::vector<double> offsets(n);
     double first = 0.0;
