@@ -876,8 +876,8 @@ TEST(RealFootage, DefaultsFindNoContactAtTheHotSpotsOfT2AfterTheFirstSecond) {
 
 // The pipeline's partial high-pass (Sensor::SetWholeStages(false)) on real footage: the same
 // thresholded image, bit for bit, as the whole frame's on every frame of the FTIR clips (a
-// textured background, glowing arms) and the first 300 frames of t2.avi (hot spots), from their
-// first frame (background estimated, warm-up) on.
+// textured background, glowing arms) and of t2.avi (hot spots), up to the 300th frame of each
+// video clip, from their first frame (background estimated, warm-up) on.
 TEST(RealFootage, HighpassOnlyWhereContactsCanBeGivesTheSameThresholdedImage) {
   const RealData d = LoadReal();
   if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
