@@ -313,25 +313,47 @@ void Sensor::Filter(bool whole) {
   // high-pass: minus a wide box blur of itself, at most highpass_cap, so that wide glows (palms and
   // arms above the surface, uneven light) fade while small bright contacts stay
   const int width = static_cast<int>(std::lround(m_params.highpassWidth * pxPerCm)) | 1;
-  if (m_params.highpassWidth > 0.0 && width >= 3 && m_params.highpassCap > 0.0 && !whole) {
-    HighpassWhereContactsCanBe(width);
+  const bool gained = m_params.gain != 1.0;
+  if (m_params.highpassWidth > 0.0 && width >= 3 && m_params.highpassCap > 0.0) {
+    const cv::Size size = m_smoothed.size();
+    Unshare(m_highpass, {&m_subtracted, &m_smoothed});
+    m_highpass.create(size, CV_8UC1);
+    m_wide.create(size, CV_8UC1);
+    if (gained) {
+      Unshare(m_normalized, {&m_subtracted, &m_smoothed, &m_highpass});
+      m_normalized.create(size, CV_8UC1);
+    } else {
+      m_normalized = m_highpass;
+    }
+    if (whole) {
+      HighpassOver(cv::Rect(0, 0, size.width, size.height), width);
+    } else {
+      HighpassWhereContactsCanBe(width);
+    }
     return;
   }
-  if (m_params.highpassWidth > 0.0 && width >= 3 && m_params.highpassCap > 0.0) {
-    cv::blur(m_smoothed, m_wide, cv::Size(width, width), cv::Point(-1, -1), cv::BORDER_REPLICATE);
-    if (m_params.highpassCap < 255.0) cv::min(m_wide, m_params.highpassCap, m_wide);
-    Unshare(m_highpass, {&m_subtracted, &m_smoothed});
-    cv::subtract(m_smoothed, m_wide, m_highpass);
-  } else {
-    m_highpass = m_smoothed;
-  }
+  m_highpass = m_smoothed;
 
   // gain
-  if (m_params.gain != 1.0) {
+  if (gained) {
     Unshare(m_normalized, {&m_subtracted, &m_smoothed, &m_highpass});
     m_highpass.convertTo(m_normalized, CV_8UC1, m_params.gain);
   } else {
     m_normalized = m_highpass;
+  }
+}
+
+void Sensor::HighpassOver(const cv::Rect& rect, int width) {
+  // The blur of a part of an image reads the pixels around that part (the image's own border is
+  // replicated), so its values there are those of the whole image's blur.
+  cv::Mat wide = m_wide(rect);
+  cv::blur(m_smoothed(rect), wide, cv::Size(width, width), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  if (m_params.highpassCap < 255.0) cv::min(wide, m_params.highpassCap, wide);
+  cv::Mat highpass = m_highpass(rect);
+  cv::subtract(m_smoothed(rect), wide, highpass);
+  if (m_params.gain != 1.0) {
+    cv::Mat out = m_normalized(rect);
+    highpass.convertTo(out, CV_8UC1, m_params.gain);
   }
 }
 
@@ -358,20 +380,11 @@ void Sensor::HighpassWhereContactsCanBe(int width) {
     }
   }
 
+  // what is not worked out is 0
   const cv::Size size = m_smoothed.size();
-  Unshare(m_highpass, {&m_subtracted, &m_smoothed});
-  m_highpass.create(size, CV_8UC1);
   m_highpass.setTo(0);
-  m_wide.create(size, CV_8UC1);
   m_wide.setTo(0);
-  const bool gained = m_params.gain != 1.0;
-  if (gained) {
-    Unshare(m_normalized, {&m_subtracted, &m_smoothed, &m_highpass});
-    m_normalized.create(size, CV_8UC1);
-    m_normalized.setTo(0);
-  } else {
-    m_normalized = m_highpass;
-  }
+  if (m_params.gain != 1.0) m_normalized.setTo(0);
   if (lowest > 255) return;
 
   // tiles of kTileRows x kTileCols px: mark those with a pixel at or above `lowest`
@@ -393,12 +406,9 @@ void Sensor::HighpassWhereContactsCanBe(int width) {
   }
 
   // Each group of marked tiles (touching at a side or a corner) is worked out as one rectangle,
-  // its bounding box: the blur of a rectangle reads width / 2 px all round it, so few large
-  // rectangles read less than many small ones. The blur of a part of an image reads the pixels
-  // around that part (the image's own border is replicated), so its values are those of the
-  // whole image's blur. Rectangles of two groups may overlap; the overlap is worked out twice,
-  // with the same values.
-  const cv::Size box(width, width);
+  // its bounding box (HighpassOver): the blur of a rectangle reads width / 2 px all round it, so
+  // few large rectangles read less than many small ones. Rectangles of two groups may overlap;
+  // the overlap is worked out twice, with the same values.
   m_tileStack.clear();
   for (int start = 0; start < tileRows * tileCols; ++start) {
     if (m_tileMarks[static_cast<size_t>(start)] != 1) continue;
@@ -426,17 +436,9 @@ void Sensor::HighpassWhereContactsCanBe(int width) {
       }
     }
     const int x0 = c0 * kTileCols, y0 = r0 * kTileRows;
-    const cv::Rect rect(x0, y0, std::min(size.width, (c1 + 1) * kTileCols) - x0,
-                        std::min(size.height, (r1 + 1) * kTileRows) - y0);
-    cv::Mat wide = m_wide(rect);
-    cv::blur(m_smoothed(rect), wide, box, cv::Point(-1, -1), cv::BORDER_REPLICATE);
-    if (m_params.highpassCap < 255.0) cv::min(wide, m_params.highpassCap, wide);
-    cv::Mat highpass = m_highpass(rect);
-    cv::subtract(m_smoothed(rect), wide, highpass);
-    if (gained) {
-      cv::Mat out = m_normalized(rect);
-      highpass.convertTo(out, CV_8UC1, m_params.gain);
-    }
+    HighpassOver(cv::Rect(x0, y0, std::min(size.width, (c1 + 1) * kTileCols) - x0,
+                          std::min(size.height, (r1 + 1) * kTileRows) - y0),
+                 width);
   }
 }
 

@@ -98,8 +98,11 @@ class Sensor {
   void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out);
   void BuildTableMaps();
   void Filter(bool whole);
-  // the high-pass and the gain in the tiles where a contact can be (SetWholeStages(false))
+  // the high-pass and the gain in the tiles where a contact can be (SetWholeStages(false)), into
+  // the stage images Filter has made ready
   void HighpassWhereContactsCanBe(int width);
+  // the high-pass (box blur `width` px) and the gain over one rectangle of the frame
+  void HighpassOver(const cv::Rect& rect, int width);
   void LearnBackground(double time);
   double PixelsPerCm() const;
 
