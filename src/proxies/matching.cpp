@@ -297,7 +297,7 @@ MatchResult MatchWindowed(const Contour& prev, const Contour& cur, int window,
   // a window as wide as the contour is the full search
   radius = std::max(radius, 0);
   const int width = 2 * radius + 1;
-  if (width >= m || static_cast<int>(predicted.size()) != n) {
+  if (BandSpansContour(radius, m) || static_cast<int>(predicted.size()) != n) {
     MatchResult r = FastFixed(p, c, half);
     r.fallbacks = n;
     if (fellBack) *fellBack = n > 0;

@@ -148,11 +148,9 @@ MatchResult MatchSuccessors(const ProxyParams& params, const Contour& prev, cons
     case MatchAlgorithm::kReference:
       return MatchReference(prev, cur, window);
     case MatchAlgorithm::kWindowed: {
-      // a band as wide as the contour (a fingertip's) is the full search: MatchWindowed would
-      // hand every point to it, so the prediction is not worked out
-      const int n = static_cast<int>(prev.cols());
-      if (cur.cols() > 0 && 2 * std::max(params.searchRadius, 0) + 1 >= cur.cols()) {
-        if (fallbacks) *fallbacks += n;
+      // a band as wide as the contour is the full search: no prediction to work out
+      if (cur.cols() > 0 && BandSpansContour(params.searchRadius, static_cast<int>(cur.cols()))) {
+        if (fallbacks) *fallbacks += static_cast<int>(prev.cols());
         return MatchFast(prev, cur, window);
       }
       const std::vector<int> predicted = PredictSuccessors(prev, cur);

@@ -13,6 +13,7 @@
 
 #include "proxygrasp/core/geometry.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -52,6 +53,13 @@ MatchResult MatchFast(const Contour& prev, const Contour& cur, int window);
 MatchResult MatchWindowed(const Contour& prev, const Contour& cur, int window,
                           std::span<const int> predicted, int radius, double fallbackScore,
                           bool* fellBack = nullptr);
+
+/// True when the windowed search's band of 2 radius + 1 points spans a current contour of
+/// `currentPoints` (a fingertip's): MatchWindowed is then the full search (MatchFast), every point
+/// counted as handed to it, and needs no prediction.
+inline bool BandSpansContour(int radius, int currentPoints) {
+  return 2 * std::max(radius, 0) + 1 >= currentPoints;
+}
 
 /// Windowed search with a linear prediction: predicted[k] = predictedOffset + round(k M / N),
 /// wrapped into [0, M).
