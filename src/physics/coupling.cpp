@@ -287,7 +287,7 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
   for (size_t k = 0; k < n; ++k) {
     const b2Body* base = particles[onTop[k]].bodies.front();
     arm[k] = FromB2(base->GetPosition()) - center;
-    particleVel[k] = FromB2(base->GetLinearVelocity());
+    particleVel[k] = BodyVelocity(particles[onTop[k]], 0);
     mass[k] = pointMass(arm[k]);
   }
   std::vector<Vec2> tableArm(P);
@@ -451,7 +451,7 @@ void LayeredWorld::Impl::Couple() {
       solve = SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, table, N, true, &solve);
     }
     for (size_t k = 0; k < onTop[oi].size(); ++k) {
-      particles[onTop[oi][k]].bodies.front()->ApplyLinearImpulseToCenter(ToB2(-solve.top[k]), true);
+      ApplyParticleImpulse(particles[onTop[oi][k]], 0, -solve.top[k]);
       o.topFriction += solve.top[k];
     }
     o.topNormal += fd * static_cast<double>(onTop[oi].size()) * dt;

@@ -297,6 +297,7 @@ void LayeredWorld::StepFrame() {
     } else {
       w.StepLayers();
     }
+    w.PlaceFreeBodies();
     w.Couple();
     w.CollectRecords(s == S - 1);
     w.UpdateSupport();
@@ -530,6 +531,14 @@ int LayeredWorld::ActiveParticleCount() const {
   return n;
 }
 
+int LayeredWorld::SolvedBodyCount() const {
+  int n = 0;
+  for (const ParticleData& p : m_impl->particles) {
+    for (const b2Body* b : p.bodies) n += b->IsEnabled() && b->IsAwake() ? 1 : 0;
+  }
+  return n;
+}
+
 int LayeredWorld::BodyCount() const {
   int n = 0;
   for (const auto& layer : m_impl->layers) n += layer->world->GetBodyCount() - 1;  // walls
@@ -596,11 +605,13 @@ uint64_t LayeredWorld::StateHash() const {
   for (const ParticleData& p : m_impl->particles) {
     HashValue(h, p.id);
     HashValue(h, p.baseLayer);
-    for (const b2Body* b : p.bodies) {
-      HashValue(h, b->GetPosition().x);
-      HashValue(h, b->GetPosition().y);
-      HashValue(h, b->GetLinearVelocity().x);
-      HashValue(h, b->GetLinearVelocity().y);
+    for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
+      const b2Vec2 x = p.bodies[j]->GetPosition();
+      const b2Vec2 v = ToB2(Impl::BodyVelocity(p, j));
+      HashValue(h, x.x);
+      HashValue(h, x.y);
+      HashValue(h, v.x);
+      HashValue(h, v.y);
     }
   }
   return h;

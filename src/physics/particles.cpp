@@ -98,6 +98,9 @@ void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Ve
     body->SetMassData(&md);
     p.bodies.push_back(body);
   }
+  p.freeVel.assign(p.bodies.size(), vel);
+  p.freeAim.assign(p.bodies.size(), pos);
+  p.freeNow.assign(p.bodies.size(), 0);
 }
 
 void LayeredWorld::Impl::DestroyBodies(ParticleData& p) {
@@ -105,25 +108,54 @@ void LayeredWorld::Impl::DestroyBodies(ParticleData& p) {
     layers[p.baseLayer + j]->world->DestroyBody(p.bodies[j]);
   }
   p.bodies.clear();
+  p.freeVel.clear();
+  p.freeAim.clear();
+  p.freeNow.clear();
 }
 
-b2Fixture* LayeredWorld::Impl::StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const {
+Vec2 LayeredWorld::Impl::BodyVelocity(const ParticleData& p, int j) {
+  const b2Body* b = p.bodies[j];
+  return b->IsAwake() ? FromB2(b->GetLinearVelocity()) : p.freeVel[j];
+}
+
+void LayeredWorld::Impl::ApplyParticleImpulse(ParticleData& p, int j, const Vec2& impulse) const {
+  b2Body* b = p.bodies[j];
+  if (b->IsAwake()) {
+    b->ApplyLinearImpulseToCenter(ToB2(impulse), true);
+  } else {
+    p.freeVel[j] += impulse / ParticleMass();
+  }
+}
+
+void LayeredWorld::Impl::PlaceFreeBodies() {
+  for (ParticleData& p : particles) {
+    if (!p.active) continue;
+    for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
+      if (!p.freeNow[j]) continue;
+      b2Body* b = p.bodies[j];
+      // a contact that stopped touching at the step's start wakes its bodies (b2Contact::Update);
+      // such a body took part in the step alone, without velocity or force, so it did not move
+      b->SetAwake(false);
+      b->SetTransform(ToB2(p.freeAim[j]), 0.0f);
+    }
+  }
+}
+
+b2Fixture* LayeredWorld::Impl::StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim,
+                                             const std::vector<b2Fixture*>& unpaired) const {
   // The plain control would move the body to its aim in one substep, up to 0.5 cm into an object
   // at full grip (d_max); a contact that is not in the solver yet cannot stop it. Cast the circle
   // along its path against the objects it has contacts with (its fat bounding box overlaps
-  // theirs) and stop it where it first meets one: the next substep finds the contact and presses.
+  // theirs), and those it will have at the step's start (unpaired), and stop it where it first
+  // meets one: the next substep finds the contact and presses.
   const Vec2 path = *aim - x;
   if (path.squaredNorm() == 0.0) return nullptr;
   double lambda = 1.0;
   b2Fixture* hit = nullptr;
   const b2Fixture* particle = body->GetFixtureList();
-  for (b2ContactEdge* e = body->GetContactList(); e != nullptr; e = e->next) {
-    b2Contact* contact = e->contact;
-    const bool particleIsA = contact->GetFixtureA() == particle;
-    b2Fixture* other = particleIsA ? contact->GetFixtureB() : contact->GetFixtureA();
+  auto cast = [&](b2Fixture* other, int child) {
     b2ShapeCastInput input;
-    input.proxyA.Set(other->GetShape(),
-                     particleIsA ? contact->GetChildIndexB() : contact->GetChildIndexA());
+    input.proxyA.Set(other->GetShape(), child);
     input.proxyB.Set(particle->GetShape(), 0);
     input.transformA = other->GetBody()->GetTransform();
     input.transformB = body->GetTransform();
@@ -133,9 +165,43 @@ b2Fixture* LayeredWorld::Impl::StopAtSurface(b2Body* body, const Vec2& x, Vec2* 
       lambda = output.lambda;
       hit = other;
     }
+  };
+  for (b2ContactEdge* e = body->GetContactList(); e != nullptr; e = e->next) {
+    b2Contact* contact = e->contact;
+    const bool particleIsA = contact->GetFixtureA() == particle;
+    cast(particleIsA ? contact->GetFixtureB() : contact->GetFixtureA(),
+         particleIsA ? contact->GetChildIndexB() : contact->GetChildIndexA());
   }
+  for (b2Fixture* other : unpaired) cast(other, 0);
   *aim = x + lambda * path;
   return hit;
+}
+
+void LayeredWorld::Impl::FindUnpaired(int layer, const b2Body* body, const Vec2& x, const Vec2& aim,
+                                      std::vector<b2Fixture*>* unpaired) const {
+  // A body put on its aim by SetTransform gets a bounding box without Box2D's allowance for its
+  // motion, and its new pairs are found only at the next step's start, after the control has
+  // looked at its contacts. List the object fixtures in its layer that its path comes near
+  // (bounding boxes within Box2D's fattening) and that it has no contact with yet.
+  unpaired->clear();
+  const double reach = params.particleRadius + b2_aabbExtension;
+  const Vec2 lo = x.cwiseMin(aim).array() - reach;
+  const Vec2 hi = x.cwiseMax(aim).array() + reach;
+  for (const ObjectData& o : objects) {
+    if (layer >= static_cast<int>(o.slices.size())) continue;
+    for (b2Fixture* f = o.slices[layer].body->GetFixtureList(); f != nullptr; f = f->GetNext()) {
+      const b2AABB& box = f->GetAABB(0);
+      if (box.lowerBound.x > hi.x() || box.lowerBound.y > hi.y() || box.upperBound.x < lo.x() ||
+          box.upperBound.y < lo.y()) {
+        continue;
+      }
+      bool paired = false;
+      for (const b2ContactEdge* e = body->GetContactList(); e != nullptr && !paired; e = e->next) {
+        paired = e->contact->GetFixtureA() == f || e->contact->GetFixtureB() == f;
+      }
+      if (!paired) unpaired->push_back(f);
+    }
+  }
 }
 
 void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec2& stop,
@@ -186,6 +252,7 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
   // force law at any substep count (docs/physics.md, "Grip").
   const double m = ParticleMass();
   const double aimScale = dt * dt / m;
+  std::vector<b2Fixture*> unpaired;
   // the layers' contact records of this substep start here: PressOnArrival adds to them
   for (auto& layer : layers) layer->records.clear();
   for (ParticleData& p : particles) {
@@ -193,9 +260,11 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
     if (!p.active) {
       // nothing within reach: the control would put the body on its goal with the velocity
       // that got it there (x' = x + dt v', v' = (x* - x)/dt); do it directly, outside Box2D
-      for (b2Body* b : p.bodies) {
+      for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
+        b2Body* b = p.bodies[j];
         const Vec2 x = FromB2(b->GetPosition());
-        b->SetLinearVelocity(ToB2((goal - x) / dt));
+        b->SetAwake(false);
+        p.freeVel[j] = (goal - x) / dt;
         b->SetTransform(ToB2(goal), 0.0f);
       }
       continue;
@@ -203,9 +272,8 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
     const Vec2 goalVel = (p.target - p.prevTarget) * params.frameRate;
     for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
       b2Body* b = p.bodies[j];
-      b->SetAngularVelocity(static_cast<float>(p.spin));
       const Vec2 x = FromB2(b->GetPosition());
-      const Vec2 v = FromB2(b->GetLinearVelocity());
+      const Vec2 v = BodyVelocity(p, j);
       Vec2 aim = goal;
       // contacts as they are now (Box2D's flags date from the last step's start): a body that
       // overlaps an object presses on it; the others may only reach its surface this substep
@@ -228,16 +296,40 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
         if (d <= 0.0) continue;  // moving off the surface: the plain control lets go
         aim += (GripPush(d, goalVel.dot(in)) * aimScale - d) * in;
       }
+      // a body that was asleep was put on its aim outside Box2D: pairs it will have may be
+      // missing from its contact list
+      unpaired.clear();
+      if (!b->IsAwake()) FindUnpaired(p.baseLayer + j, b, x, aim, &unpaired);
       if (!pressing) {
-        b2Fixture* surface = StopAtSurface(b, x, &aim);
+        b2Fixture* surface = StopAtSurface(b, x, &aim, unpaired);
         if (surface != nullptr) PressOnArrival(p.baseLayer + j, surface, aim, goal, goalVel);
       }
-      const Vec2 force = m * ((aim - x) / dt - v) / dt;
-      b->ApplyForceToCenter(ToB2(force), true);
       // continuous collision only when a step could carry the body past a surface: a body moving
       // less than its radius per step, or already pressing on a surface, is held by the ordinary
       // contact; time-of-impact sub-steps would only disturb the contact forces and cost time
-      b->SetBullet((aim - x).norm() > params.particleRadius && !pressing);
+      const bool fast = (aim - x).norm() > params.particleRadius;
+      if (!pressing && !fast && unpaired.empty()) {
+        // Touching nothing, Box2D would only integrate it onto its aim, alone in an island of
+        // its own (a third of a microsecond each, most of the stepping when many fingers are
+        // near objects). It stays asleep there and goes to its aim after the step. A body near
+        // an object it has no pair with yet stays awake for a substep, so that Box2D's step
+        // finds the pair.
+        b->SetAwake(false);
+        p.freeVel[j] = (aim - x) / dt;
+        p.freeAim[j] = aim;
+        p.freeNow[j] = 1;
+        b->SetBullet(false);
+        continue;
+      }
+      p.freeNow[j] = 0;
+      if (!b->IsAwake()) {
+        b->SetAwake(true);
+        b->SetLinearVelocity(ToB2(v));
+      }
+      b->SetAngularVelocity(static_cast<float>(p.spin));
+      const Vec2 force = m * ((aim - x) / dt - v) / dt;
+      b->ApplyForceToCenter(ToB2(force), true);
+      b->SetBullet(fast && !pressing);
     }
   }
 }
@@ -252,7 +344,7 @@ void LayeredWorld::Impl::UpdateSupport() {
     p.baseHeight = height;
     if (layer == p.baseLayer) continue;
     // the support went away: fall to the highest surface below, keeping the motion
-    const Vec2 vel = FromB2(p.bodies.front()->GetLinearVelocity());
+    const Vec2 vel = BodyVelocity(p, 0);
     DestroyBodies(p);
     p.baseLayer = layer;
     CreateBodies(p, pos, vel);

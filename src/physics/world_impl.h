@@ -171,6 +171,13 @@ struct ParticleData {
   /// that their surfaces move with the finger's (UpdateSpin)
   double spin = 0.0;
   std::vector<b2Body*> bodies;  ///< layers baseLayer, baseLayer + 1, ...
+  /// Per body: a body that touches nothing and moves less than its radius in a substep is left
+  /// asleep in its world, out of Box2D's islands, and put on its aim after the step
+  /// (ApplyKinematicControl, PlaceFreeBodies). Box2D zeroes a sleeping body's velocity, so an
+  /// asleep body's velocity is kept here (BodyVelocity).
+  std::vector<Vec2> freeVel;
+  std::vector<Vec2> freeAim;
+  std::vector<char> freeNow;  ///< left asleep this substep: PlaceFreeBodies puts it on freeAim
 };
 
 struct LayeredWorld::Impl {
@@ -209,6 +216,12 @@ struct LayeredWorld::Impl {
   int CreationLayer(const Vec2& p, double baseHeight) const;
   /// F = m((x* - x)/dt - v)/dt on every particle body, x* interpolated at fraction alpha.
   void ApplyKinematicControl(double alpha);
+  /// Puts the bodies left asleep this substep on their aims (ApplyKinematicControl).
+  void PlaceFreeBodies();
+  /// A particle body's velocity, cm/s: Box2D's, or the kept one while the body is asleep.
+  static Vec2 BodyVelocity(const ParticleData& p, int j);
+  /// Adds an impulse to a particle body's velocity, asleep or not (g cm/s).
+  void ApplyParticleImpulse(ParticleData& p, int j, const Vec2& impulse) const;
   /// Lets particles whose support went away fall to the highest surface below them.
   void UpdateSupport();
   /// At a frame's start: a particle is active while its path this frame passes within reach of
@@ -229,7 +242,12 @@ struct LayeredWorld::Impl {
   void UpdateSpin();
   /// Shortens a body's step from x towards *aim so that it stops where it first meets an object;
   /// returns the object fixture it meets (nullptr: none on its path).
-  b2Fixture* StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim) const;
+  b2Fixture* StopAtSurface(b2Body* body, const Vec2& x, Vec2* aim,
+                           const std::vector<b2Fixture*>& unpaired) const;
+  /// The object fixtures in a layer near a body's path from x to aim that it has no contact
+  /// with (yet): see ApplyKinematicControl.
+  void FindUnpaired(int layer, const b2Body* body, const Vec2& x, const Vec2& aim,
+                    std::vector<b2Fixture*>* unpaired) const;
   /// A body that reaches an object's surface this substep at stop (Box2D has no contact for it
   /// until the next one) presses with the grip's force law directly: the force goes to the
   /// object's slice in that layer and into the layer's contact records.

@@ -101,6 +101,7 @@ void BM_StepFrameTwoHands(benchmark::State& state) {
   state.counters["bodies"] = world.BodyCount();
   state.counters["particles"] = world.ParticleCount();
   state.counters["active"] = world.ActiveParticleCount();
+  state.counters["solved"] = world.SolvedBodyCount();
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_StepFrameTwoHands)

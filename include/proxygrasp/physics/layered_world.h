@@ -90,6 +90,11 @@ class LayeredWorld : public SceneQuery {
   /// path came within reach of an object, or that rest on one. The others were put on their
   /// targets directly (docs/physics.md, Particles far from objects).
   int ActiveParticleCount() const;
+  /// Particle bodies that Box2D's solver stepped in the last substep: those of active stacks that
+  /// pressed on an object, came near one they had no contact with yet, or moved more than their
+  /// radius. The others touched nothing; they were left asleep in their worlds and put on their
+  /// aims directly (docs/physics.md, Particles far from objects).
+  int SolvedBodyCount() const;
   /// Box2D bodies in all layers: object slices plus particle bodies (walls not counted).
   int BodyCount() const;
   /// Frames stepped since Build.
