@@ -285,9 +285,8 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
   std::vector<Vec2> arm(n), particleVel(n);
   std::vector<Eigen::Matrix2d> mass(n);
   for (size_t k = 0; k < n; ++k) {
-    const b2Body* base = particles[onTop[k]].bodies.front();
-    arm[k] = FromB2(base->GetPosition()) - center;
-    particleVel[k] = BodyVelocity(particles[onTop[k]], 0);
+    arm[k] = BasePosition(particles[onTop[k]]) - center;
+    particleVel[k] = BaseVelocity(particles[onTop[k]]);
     mass[k] = pointMass(arm[k]);
   }
   std::vector<Vec2> tableArm(P);

@@ -227,7 +227,9 @@ void LayeredWorld::ApplyPlan(const ParticlePlan& plan) {
         int layer;
         w.FindSupport(pp.start, p.baseLayer, &layer, &p.baseHeight, &p.restingOn);
         if (layer < p.baseLayer) p.baseLayer = layer;  // nothing there to rest on
-        w.CreateBodies(p, pp.start, Vec2::Zero());
+        // no bodies yet: the frame's UpdateActivity gives them to a stack within reach of an
+        // object
+        p.pos = pp.start;
         w.particleIndex[p.id] = static_cast<int>(w.particles.size());
         w.particles.push_back(std::move(p));
         break;
@@ -443,7 +445,7 @@ std::vector<ParticleFeedback> LayeredWorld::Feedback() const {
   for (const ParticleData& p : m_impl->particles) {
     ParticleFeedback f;
     f.id = p.id;
-    f.pos = FromB2(p.bodies.front()->GetPosition());
+    f.pos = Impl::BasePosition(p);
     f.baseHeight = p.baseHeight;
     out.push_back(f);
   }
@@ -510,12 +512,13 @@ std::vector<ParticleState> LayeredWorld::Particles() const {
     ParticleState s;
     s.id = p.id;
     s.contact = p.contact;
-    s.pos = FromB2(p.bodies.front()->GetPosition());
+    s.pos = Impl::BasePosition(p);
     s.target = p.target;
     s.baseHeight = p.baseHeight;
     s.baseLayer = p.baseLayer;
-    s.layerCount = static_cast<int>(p.bodies.size());
+    s.layerCount = m_impl->StackLayers(p);
     s.restingOn = p.restingOn;
+    s.active = p.active;
     out.push_back(s);
   }
   return out;
@@ -612,6 +615,12 @@ uint64_t LayeredWorld::StateHash() const {
       HashValue(h, x.y);
       HashValue(h, v.x);
       HashValue(h, v.y);
+    }
+    if (p.bodies.empty()) {
+      HashValue(h, p.pos.x());
+      HashValue(h, p.pos.y());
+      HashValue(h, p.vel.x());
+      HashValue(h, p.vel.y());
     }
   }
   return h;

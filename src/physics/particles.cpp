@@ -72,8 +72,7 @@ b2MassData LayeredWorld::Impl::ParticleMassData() const {
 
 void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Vec2& vel) {
   assert(p.bodies.empty() && "stack already has bodies");
-  const int K = LayerCount();
-  const int top = params.capsule ? K : std::min(K, p.baseLayer + params.stackSize);
+  const int top = p.baseLayer + StackLayers(p);
   b2CircleShape circle;
   circle.m_radius = static_cast<float>(params.particleRadius);
   b2FixtureDef fd;
@@ -92,7 +91,6 @@ void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Ve
     bd.linearVelocity = ToB2(vel);
     bd.fixedRotation = true;
     bd.allowSleep = false;
-    bd.enabled = p.active;
     b2Body* body = layers[k]->world->CreateBody(&bd);
     body->CreateFixture(&fd);
     body->SetMassData(&md);
@@ -113,12 +111,29 @@ void LayeredWorld::Impl::DestroyBodies(ParticleData& p) {
   p.freeNow.clear();
 }
 
+int LayeredWorld::Impl::StackLayers(const ParticleData& p) const {
+  const int K = LayerCount();
+  return (params.capsule ? K : std::min(K, p.baseLayer + params.stackSize)) - p.baseLayer;
+}
+
+Vec2 LayeredWorld::Impl::BasePosition(const ParticleData& p) {
+  return p.bodies.empty() ? p.pos : FromB2(p.bodies.front()->GetPosition());
+}
+
+Vec2 LayeredWorld::Impl::BaseVelocity(const ParticleData& p) {
+  return p.bodies.empty() ? p.vel : BodyVelocity(p, 0);
+}
+
 Vec2 LayeredWorld::Impl::BodyVelocity(const ParticleData& p, int j) {
   const b2Body* b = p.bodies[j];
   return b->IsAwake() ? FromB2(b->GetLinearVelocity()) : p.freeVel[j];
 }
 
 void LayeredWorld::Impl::ApplyParticleImpulse(ParticleData& p, int j, const Vec2& impulse) const {
+  if (p.bodies.empty()) {
+    p.vel += impulse / ParticleMass();
+    return;
+  }
   b2Body* b = p.bodies[j];
   if (b->IsAwake()) {
     b->ApplyLinearImpulseToCenter(ToB2(impulse), true);
@@ -259,14 +274,9 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
     const Vec2 goal = p.prevTarget + alpha * (p.target - p.prevTarget);
     if (!p.active) {
       // nothing within reach: the control would put the body on its goal with the velocity
-      // that got it there (x' = x + dt v', v' = (x* - x)/dt); do it directly, outside Box2D
-      for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
-        b2Body* b = p.bodies[j];
-        const Vec2 x = FromB2(b->GetPosition());
-        b->SetAwake(false);
-        p.freeVel[j] = (goal - x) / dt;
-        b->SetTransform(ToB2(goal), 0.0f);
-      }
+      // that got it there (x' = x + dt v', v' = (x* - x)/dt); do it directly, without bodies
+      p.vel = (goal - p.pos) / dt;
+      p.pos = goal;
       continue;
     }
     const Vec2 goalVel = (p.target - p.prevTarget) * params.frameRate;
@@ -336,7 +346,7 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
 
 void LayeredWorld::Impl::UpdateSupport() {
   for (ParticleData& p : particles) {
-    const Vec2 pos = FromB2(p.bodies.front()->GetPosition());
+    const Vec2 pos = BasePosition(p);
     int layer, object;
     double height;
     FindSupport(pos, p.baseLayer, &layer, &height, &object);
@@ -344,6 +354,10 @@ void LayeredWorld::Impl::UpdateSupport() {
     p.baseHeight = height;
     if (layer == p.baseLayer) continue;
     // the support went away: fall to the highest surface below, keeping the motion
+    if (p.bodies.empty()) {
+      p.baseLayer = layer;
+      continue;
+    }
     const Vec2 vel = BodyVelocity(p, 0);
     DestroyBodies(p);
     p.baseLayer = layer;
@@ -397,7 +411,7 @@ void LayeredWorld::Impl::UpdateActivity() {
   const double frameTime = 1.0 / params.frameRate;
   for (ParticleData& p : particles) {
     bool active = p.restingOn != kNoObject;
-    const Vec2 from = FromB2(p.bodies.front()->GetPosition());
+    const Vec2 from = BasePosition(p);
     const Vec2 path = p.target - from;
     const double length2 = path.squaredNorm();
     for (size_t oi = 0; oi < objects.size() && !active; ++oi) {
@@ -411,7 +425,14 @@ void LayeredWorld::Impl::UpdateActivity() {
     }
     if (active == p.active) continue;
     p.active = active;
-    for (b2Body* b : p.bodies) b->SetEnabled(active);
+    // a stack gets its bodies where it is, moving as it was; leaving, it keeps its base's motion
+    if (active) {
+      CreateBodies(p, p.pos, p.vel);
+    } else {
+      p.pos = from;
+      p.vel = BaseVelocity(p);
+      DestroyBodies(p);
+    }
   }
 }
 

@@ -164,9 +164,11 @@ struct ParticleData {
   double baseHeight = 0.0;
   int baseLayer = 0;
   ObjectId restingOn = kNoObject;
-  /// within reach of an object this frame: its bodies take part in their Box2D worlds. Otherwise
-  /// they are disabled there and put on their goals directly (UpdateActivity)
-  bool active = true;
+  /// within reach of an object this frame: it has bodies in its Box2D worlds. Otherwise it has
+  /// none, and pos and vel are put on its goals directly (UpdateActivity)
+  bool active = false;
+  Vec2 pos = Vec2::Zero();  ///< where the stack is while it has no bodies, cm
+  Vec2 vel = Vec2::Zero();  ///< its velocity then, cm/s
   /// the turn rate of its contact this frame, rad/s: its bodies carry it as angular velocity so
   /// that their surfaces move with the finger's (UpdateSpin)
   double spin = 0.0;
@@ -220,6 +222,11 @@ struct LayeredWorld::Impl {
   void PlaceFreeBodies();
   /// A particle body's velocity, cm/s: Box2D's, or the kept one while the body is asleep.
   static Vec2 BodyVelocity(const ParticleData& p, int j);
+  /// Where a stack's base is, and its velocity: its base body's, or pos and vel without bodies.
+  static Vec2 BasePosition(const ParticleData& p);
+  static Vec2 BaseVelocity(const ParticleData& p);
+  /// Layers a stack fills from its base layer (its bodies while it has them).
+  int StackLayers(const ParticleData& p) const;
   /// Adds an impulse to a particle body's velocity, asleep or not (g cm/s).
   void ApplyParticleImpulse(ParticleData& p, int j, const Vec2& impulse) const;
   /// Lets particles whose support went away fall to the highest surface below them.

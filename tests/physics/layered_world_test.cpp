@@ -206,17 +206,19 @@ TEST(Plan, RandomCreateReuseDeleteKeepsBookkeepingConsistent) {
                    w.Object(f % 2).centerOfMass, f % 3);
     w.StepFrame();
     alive = keep;
-    // every stack is listed once in creation order, with its bodies counted
+    // every stack is listed once in creation order, with the bodies of the active ones counted
     const std::vector<ParticleState> ps = w.Particles();
     ASSERT_EQ(ps.size(), alive.size());
-    int bodies = slices;
+    int bodies = slices, active = 0;
     for (size_t i = 0; i < ps.size(); ++i) {
       ASSERT_EQ(ps[i].id, alive[i]);
       ASSERT_TRUE(ps[i].pos.allFinite());
       ASSERT_EQ(ps[i].layerCount, std::min(p.stackSize, p.layers - ps[i].baseLayer));
-      bodies += ps[i].layerCount;
+      bodies += ps[i].active ? ps[i].layerCount : 0;
+      active += ps[i].active ? 1 : 0;
     }
     ASSERT_EQ(w.BodyCount(), bodies);
+    ASSERT_EQ(w.ActiveParticleCount(), active);
     ASSERT_TRUE(w.SlicesAgree());
     for (int i = 0; i < w.ObjectCount(); ++i) ASSERT_TRUE(w.Object(i).pose.pos.allFinite());
   }

@@ -673,7 +673,15 @@ TEST(Stacks, StackSizeAndCapsuleFillTheirLayers) {
   EXPECT_EQ(s[0].layerCount, 3);
   EXPECT_EQ(s[1].baseLayer, 6);
   EXPECT_EQ(s[1].layerCount, 2);  // clamped at the top layer
-  EXPECT_EQ(w.BodyCount(), slices + 5);
+  // bodies come with the frame, only to stacks within reach of an object: the one resting on the
+  // block's top has its 2; the one at (10, 10), 24 cm from the block, has none
+  EXPECT_EQ(w.BodyCount(), slices);
+  w.StepFrame();
+  s = w.Particles();
+  EXPECT_FALSE(s[0].active);
+  EXPECT_EQ(s[0].layerCount, 3);
+  EXPECT_TRUE(s[1].active);
+  EXPECT_EQ(w.BodyCount(), slices + 2);
 
   p.capsule = true;
   LayeredWorld c;

@@ -113,12 +113,15 @@ struct SliceOutline {
 struct ParticleState {
   ParticleId id = kNoId;
   ContactId contact = kNoId;
-  Vec2 pos = Vec2::Zero();         ///< base body position, cm
+  Vec2 pos = Vec2::Zero();         ///< base position (its base body's while it has bodies), cm
   Vec2 target = Vec2::Zero();      ///< where kinematic control drives it this frame, cm
   double baseHeight = 0.0;         ///< height of the surface it rests on, cm
   int baseLayer = 0;               ///< layer of its lowest body
-  int layerCount = 0;              ///< bodies in the stack (consecutive layers from the base)
+  int layerCount = 0;              ///< layers the stack fills, consecutive from the base
   ObjectId restingOn = kNoObject;  ///< the object it rests on; kNoObject: the table
+  /// within reach of an object in the last frame: it has one Box2D body per layer it fills.
+  /// Otherwise it has none and is put on its target directly (docs/physics.md)
+  bool active = false;
 };
 
 void Describe(PhysicsParams& p, ParamVisitor& v);
