@@ -372,7 +372,8 @@ ObjectId LayeredWorld::ObjectAt(const Vec2& p) const {
   double bestTop = -1.0;
   for (ObjectId i = 0; i < ObjectCount(); ++i) {
     const ObjectData& o = m_impl->objects[i];
-    if (o.top > bestTop && FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(p)) > 0) {
+    if (o.top > bestTop && o.MayHold(p) &&
+        FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(p)) > 0) {
       best = i;
       bestTop = o.top;
     }
@@ -385,7 +386,9 @@ Vec2 LayeredWorld::NearestOutside(const Vec2& p) const {
   constexpr double kEps = 1e-6;  // how far outside the boundary the answer lies, cm
   auto inside = [&](const Vec2& q) {
     for (const ObjectData& o : objects) {
-      if (FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(q)) > -kEps / 2) {
+      // the bound radius holds the footprint and 1e-6 cm more, so MayHold passes every point
+      // this accepts
+      if (o.MayHold(q) && FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(q)) > -kEps / 2) {
         return true;
       }
     }
