@@ -232,7 +232,8 @@ struct LayeredWorld::Impl {
   /// Lets particles whose support went away fall to the highest surface below them.
   void UpdateSupport();
   /// At a frame's start: a particle is active while its path this frame passes within reach of
-  /// an object (or it rests on one); the others' bodies are disabled in their worlds.
+  /// an object (or it rests on one). A stack gets its bodies when it becomes active and loses
+  /// them when it stops being so.
   void UpdateActivity();
 
   // coupling.cpp
