@@ -540,7 +540,7 @@ int LayeredWorld::ActiveParticleCount() const {
 int LayeredWorld::SolvedBodyCount() const {
   int n = 0;
   for (const ParticleData& p : m_impl->particles) {
-    for (const b2Body* b : p.bodies) n += b->IsEnabled() && b->IsAwake() ? 1 : 0;
+    for (const b2Body* b : p.bodies) n += b->IsAwake() ? 1 : 0;
   }
   return n;
 }

@@ -200,16 +200,13 @@ void LayeredWorld::Impl::FindUnpaired(int layer, const b2Body* body, const Vec2&
   // (bounding boxes within Box2D's fattening) and that it has no contact with yet.
   unpaired->clear();
   const double reach = params.particleRadius + b2_aabbExtension;
-  const Vec2 lo = x.cwiseMin(aim).array() - reach;
-  const Vec2 hi = x.cwiseMax(aim).array() + reach;
+  b2AABB swept;
+  swept.lowerBound = ToB2(Vec2(x.cwiseMin(aim).array() - reach));
+  swept.upperBound = ToB2(Vec2(x.cwiseMax(aim).array() + reach));
   for (const ObjectData& o : objects) {
     if (layer >= static_cast<int>(o.slices.size())) continue;
     for (b2Fixture* f = o.slices[layer].body->GetFixtureList(); f != nullptr; f = f->GetNext()) {
-      const b2AABB& box = f->GetAABB(0);
-      if (box.lowerBound.x > hi.x() || box.lowerBound.y > hi.y() || box.upperBound.x < lo.x() ||
-          box.upperBound.y < lo.y()) {
-        continue;
-      }
+      if (!b2TestOverlap(f->GetAABB(0), swept)) continue;
       bool paired = false;
       for (const b2ContactEdge* e = body->GetContactList(); e != nullptr && !paired; e = e->next) {
         paired = e->contact->GetFixtureA() == f || e->contact->GetFixtureB() == f;
