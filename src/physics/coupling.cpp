@@ -70,6 +70,11 @@ void LayerListener::PostSolve(b2Contact* contact, const b2ContactImpulse* impuls
   for (int i = 0; i < impulse->count; ++i) {
     r.normalImpulse += impulse->normalImpulses[i];
     r.tangentImpulse += impulse->tangentImpulses[i];
+    r.point += FromB2(wm.points[i]) / impulse->count;
+  }
+  b2Body* particle = (sign > 0 ? contact->GetFixtureA() : contact->GetFixtureB())->GetBody();
+  if (const auto* p = reinterpret_cast<const ParticleData*>(particle->GetUserData().pointer)) {
+    r.goalSpeed = p->goalVel.dot(r.normalIn);
   }
   records->push_back(r);
 }
@@ -405,8 +410,48 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
   return r;
 }
 
+void LayeredWorld::Impl::LimitRelease(int oi, const std::vector<ContactRecord*>& pushes, Vec2* vel,
+                                      double* omega) const {
+  // A particle is the proxy of a soft finger, whose pad springs back at a bounded speed: it
+  // pushes a face only while the face recedes from the body's goal slower than u =
+  // grip_release_speed. The contact solver gave each pressing body's impulse lambda_i with no
+  // such bound, so a squeezed object let go took the grip's whole stored energy at once. Here
+  // each lambda_i is lowered (never below 0) until the face at its point recedes at most u
+  // faster than the goal: (v + w x r_i) . n_i <= g_i + u, projected Gauss-Seidel over the
+  // object's pushes. docs/physics.md, "Grip".
+  const ObjectData& o = objects[oi];
+  const double u = params.gripReleaseSpeed;
+  const double invM = 1.0 / o.props.mass, invI = 1.0 / o.props.inertia;
+  for (int iteration = 0; iteration < kReleaseIterations; ++iteration) {
+    bool changed = false;
+    for (ContactRecord* r : pushes) {
+      if (r->normalImpulse <= 0.0) continue;
+      const Vec2 arm = r->point - o.center;
+      const double armN = Cross(arm, r->normalIn);
+      const Vec2 v = *vel + Vec2(-arm.y(), arm.x()) * *omega;
+      const double excess = v.dot(r->normalIn) - r->goalSpeed - u;
+      if (excess <= 0.0) continue;
+      const double take = std::min(r->normalImpulse, excess / (invM + armN * armN * invI));
+      r->normalImpulse -= take;
+      *vel -= take * invM * r->normalIn;
+      *omega -= take * armN * invI;
+      changed = true;
+    }
+    if (!changed) break;
+  }
+}
+
 void LayeredWorld::Impl::Couple() {
   const double fd = params.particleDownForce;
+  // the particles' pushes on each object in this substep, for LimitRelease
+  std::vector<std::vector<ContactRecord*>>& pushes = releasePushes;
+  pushes.resize(objects.size());
+  for (std::vector<ContactRecord*>& list : pushes) list.clear();
+  if (params.gripReleaseSpeed > 0.0) {
+    for (auto& layer : layers) {
+      for (ContactRecord& r : layer->records) pushes[r.object].push_back(&r);
+    }
+  }
   // onTop, the particles resting on each object, is this substep's (PrepareTableFriction)
   for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
     ObjectData& o = objects[oi];
@@ -434,6 +479,7 @@ void LayeredWorld::Impl::Couple() {
     }
     Vec2 vel = o.vel + dv;
     double omega = o.omega + dw;
+    if (!pushes[oi].empty()) LimitRelease(oi, pushes[oi], &vel, &omega);
     const Vec2 centerAfterStep = o.center + vel * dt + corr;
 
     // Table friction was solved inside the layer worlds, together with the side contacts (each

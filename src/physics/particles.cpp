@@ -252,6 +252,8 @@ void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec
   r.normalImpulse = push * dt;
   r.friction = particleFriction[r.object];
   r.points = 1;
+  r.point = point;
+  r.goalSpeed = goalVel.dot(in);
   layers[layer]->records.push_back(r);
 }
 
@@ -277,8 +279,11 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       continue;
     }
     const Vec2 goalVel = (p.target - p.prevTarget) * params.frameRate;
+    p.goalVel = goalVel;
     for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
       b2Body* b = p.bodies[j];
+      // the contact records read the goal's velocity through it (LayerListener::PostSolve)
+      b->GetUserData().pointer = reinterpret_cast<uintptr_t>(&p);
       const Vec2 x = FromB2(b->GetPosition());
       const Vec2 v = BodyVelocity(p, j);
       Vec2 aim = goal;

@@ -39,6 +39,8 @@ inline constexpr uint16 kWallBit = 0x4;
 /// (pushes and collisions within the frame), when deciding which particles it can touch, cm:
 /// 1 cm a frame is 60 cm/s gained within one frame at 60 Hz
 inline constexpr double kActivityMargin = 1.0;
+/// Gauss-Seidel passes over an object's pushes in LimitRelease
+inline constexpr int kReleaseIterations = 4;
 
 inline b2Vec2 ToB2(const Vec2& v) {
   return b2Vec2(static_cast<float>(v.x()), static_cast<float>(v.y()));
@@ -56,6 +58,8 @@ struct ContactRecord {
   double tangentImpulse = 0.0;    ///< summed over manifold points, dyn s
   double friction = 0.0;          ///< mu used by the solver
   int points = 0;
+  Vec2 point = Vec2::Zero();  ///< where it acts (the mean of its manifold points), cm
+  double goalSpeed = 0.0;     ///< the pressing body's goal velocity along normalIn, cm/s
 };
 
 /// Sets contact friction from object properties and records particle contact impulses. Runs on
@@ -172,6 +176,9 @@ struct ParticleData {
   /// the turn rate of its contact this frame, rad/s: its bodies carry it as angular velocity so
   /// that their surfaces move with the finger's (UpdateSpin)
   double spin = 0.0;
+  /// the velocity of its goal this frame, cm/s (its bodies' user data point here while they
+  /// are awake, so that the contact records know it)
+  Vec2 goalVel = Vec2::Zero();
   std::vector<b2Body*> bodies;  ///< layers baseLayer, baseLayer + 1, ...
   /// Per body: a body that touches nothing and moves less than its radius in a substep is left
   /// asleep in its world, out of Box2D's islands, and put on its aim after the step
@@ -274,6 +281,13 @@ struct LayeredWorld::Impl {
   void StepLayers();
   /// Couples each object's slices into one state, applies top and table friction, writes back.
   void Couple();
+  /// per object, the contact records of the particles pressing it in this substep (Couple)
+  std::vector<std::vector<ContactRecord*>> releasePushes;
+  /// Takes back the part of the particles' pushes on object `oi` in this substep that made one
+  /// of its faces recede from a pressing body's goal faster than grip_release_speed, from the
+  /// object's velocity and turn rate at the substep's end (`vel`, `omega`: updated).
+  void LimitRelease(int oi, const std::vector<ContactRecord*>& pushes, Vec2* vel,
+                    double* omega) const;
   /// The friction impulses of one object in one substep, solved together.
   struct FrictionSolve {
     Vec2 vel = Vec2::Zero();       ///< object velocity after friction, cm/s
