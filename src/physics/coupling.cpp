@@ -418,7 +418,8 @@ void LayeredWorld::Impl::LimitRelease(int oi, const std::vector<ContactRecord*>&
   // such bound, so a squeezed object let go took the grip's whole stored energy at once. Here
   // each lambda_i is lowered (never below 0) until the face at its point recedes at most u
   // faster than the goal: (v + w x r_i) . n_i <= g_i + u, projected Gauss-Seidel over the
-  // object's pushes. docs/physics.md, "Grip".
+  // object's pushes, and the contact's friction impulse is brought within mu lambda_i.
+  // docs/physics.md, "Grip".
   const ObjectData& o = objects[oi];
   const double u = params.gripReleaseSpeed;
   const double invM = 1.0 / o.props.mass, invI = 1.0 / o.props.inertia;
@@ -435,6 +436,13 @@ void LayeredWorld::Impl::LimitRelease(int oi, const std::vector<ContactRecord*>&
       r->normalImpulse -= take;
       *vel -= take * invM * r->normalIn;
       *omega -= take * armN * invI;
+      // the contact's friction stays within mu times what is left of its push
+      const double limit = r->friction * r->normalImpulse;
+      const double kept = std::clamp(r->tangentImpulse, -limit, limit);
+      const double back = r->tangentImpulse - kept;
+      r->tangentImpulse = kept;
+      *vel -= back * invM * r->tangentIn;
+      *omega -= back * Cross(arm, r->tangentIn) * invI;
       changed = true;
     }
     if (!changed) break;
