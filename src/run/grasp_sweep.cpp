@@ -195,6 +195,11 @@ std::vector<FingerPath> Paths(const GraspScene& s) {
 
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& center, double radius, const Vec2& inward) {
+  return FingertipForce(object, physics, spacing, center, center, radius, inward);
+}
+
+Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                    const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward) {
   const CrossSection slice = Slice0(object, physics);
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
@@ -208,25 +213,63 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
   for (int phase = 0; phase < kPhases; ++phase) {
     for (int i = 0; i < points; ++i) {
       const double a = 2.0 * kPi * (i + static_cast<double>(phase) / kPhases) / points;
-      const Vec2 q = center + radius * Vec2(std::cos(a), std::sin(a));
-      double depth;
+      const Vec2 along = radius * Vec2(std::cos(a), std::sin(a));
+      const Vec2 q = center + along;
+      double d;  // how far the target lies beyond the body's centre, along the push
       Vec2 push;
       if (slice.circle) {
-        const double dist = q.norm();
-        if (dist < 1e-12) continue;
-        depth = slice.radius - dist;
-        push = -q / dist;
+        // The body came in along `inward` with its target (at rest) and stopped where its circle
+        // met the slice's: its centre on the circle of radius R + r, at the line's entry. It
+        // presses along the normal there, by its target's depth along that normal.
+        const Vec2 rest = restCenter + along;
+        const double reach = slice.radius + r;
+        const double ae = rest.dot(inward);
+        const double disc = ae * ae - rest.squaredNorm() + reach * reach;
+        if (disc < 0.0) continue;  // its path misses the slice
+        const double t = ae + std::sqrt(disc);
+        if (t < 0.0) continue;  // its target lies short of the slice
+        const Vec2 stop = rest - t * inward;
+        push = -stop / reach;
+        d = (q - stop).dot(push);
       } else {
-        const double along = (q - face.start).dot(face.dir);
-        if (along < 0.0 || along > face.length) continue;  // beyond the face's ends
-        depth = -(q - face.start).dot(face.normal);
+        const double at = (q - face.start).dot(face.dir);
+        if (at < 0.0 || at > face.length) continue;  // beyond the face's ends
+        d = r - (q - face.start).dot(face.normal);
         push = -face.normal;
       }
-      if (depth + r <= 0.0) continue;
-      total += push * (k * std::min(depth + r, dMax));
+      if (d <= 0.0) continue;
+      total += push * (k * std::min(d, dMax));
     }
   }
   return total / kPhases;
+}
+
+double FlatContactCouple(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                         const Vec2& center, double radius, const Vec2& inward) {
+  const CrossSection slice = Slice0(object, physics);
+  if (slice.circle) return 0.0;  // a round slice's normals all pass through its centre
+  const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
+  const double r = physics.particleRadius;
+  const Edge face = FacingEdge(slice, -inward);
+  // the foot of the perpendicular from the centre of the turn (the object's origin) to the face
+  const Vec2 foot = face.start - face.start.dot(face.dir) * face.dir;
+  const int points = std::max(3, static_cast<int>(std::lround(2.0 * kPi * radius / spacing)));
+  constexpr int kPhases = 16;
+  double sum = 0.0;
+  for (int phase = 0; phase < kPhases; ++phase) {
+    for (int i = 0; i < points; ++i) {
+      const double a = 2.0 * kPi * (i + static_cast<double>(phase) / kPhases) / points;
+      const Vec2 q = center + radius * Vec2(std::cos(a), std::sin(a));
+      const double at = (q - face.start).dot(face.dir);
+      if (at < 0.0 || at > face.length) continue;
+      const double d = r - (q - face.start).dot(face.normal);
+      // a saturated body presses no harder when the face turns into it
+      if (d <= 0.0 || d >= dMax) continue;
+      const double y = (q - foot).dot(face.dir);
+      sum += k * y * y;
+    }
+  }
+  return sum / kPhases;
 }
 
 GraspScene GenerateGraspScene(uint64_t seed, int index) {
@@ -395,6 +438,10 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
     // the object moved by `shift`: in its frame the finger moved by -shift
     return FingertipForce(o, physics, spacing, f.pos - shift, f.radius, f.inward);
   };
+  // the same with the object lagging from its rest shift: the bodies stay where they met it
+  auto laggedForce = [&](const GraspFinger& f, const Vec2& rest, const Vec2& shift) {
+    return FingertipForce(o, physics, spacing, f.pos - rest, f.pos - shift, f.radius, f.inward);
+  };
 
   // the grip at rest: opposed sides balance where the object settles between them
   Vec2 shift = Vec2::Zero();
@@ -428,7 +475,7 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
     for (int j = 1; j <= kLags; ++j) {
       const Vec2 lagged = shift - u * (physics.gripMaxDepth * j / kLags);
       Vec2 sum = Vec2::Zero();
-      for (const GraspFinger& f : s.fingers) sum += force(f, lagged);
+      for (const GraspFinger& f : s.fingers) sum += laggedForce(f, shift, lagged);
       best = std::max(best, sum.dot(u));
     }
     return best;
@@ -464,7 +511,12 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
     // each fingertip's friction acts along its face, at the face's distance from the centre
     const CrossSection slice = Slice0(o, physics);
     for (size_t i = 0; i < s.fingers.size(); ++i) {
-      p.capacity += muP * normal[i] * ReachAlong(slice, -s.fingers[i].inward);
+      const GraspFinger& f = s.fingers[i];
+      p.capacity += muP * normal[i] * ReachAlong(slice, -f.inward);
+      // the couple of the normal forces over a flat contact, once the object lags the turn by
+      // the angle that still counts as following
+      p.capacity +=
+          kFollowAngle * FlatContactCouple(o, physics, spacing, f.pos - shift, f.radius, f.inward);
     }
     p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
   } else {

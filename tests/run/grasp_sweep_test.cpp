@@ -34,12 +34,40 @@ double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double rad
   return sum / kSteps * points;
 }
 
+// The couple per radian of the same fingertip against a face turning about the foot of the
+// perpendicular through the fingertip's centre: k y^2 summed over the points that press and are not
+// saturated, y = R sin(theta) along the face; integrated like FlatFaceIntegral.
+double FlatFaceCoupleIntegral(const PhysicsParams& physics, double spacing, double radius,
+                              double depth) {
+  const double k = physics.gripStiffness, r = physics.particleRadius;
+  constexpr int kSteps = 200000;
+  double sum = 0.0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
+    const double d = depth - radius * (1.0 - std::cos(theta)) + r;
+    const double y = radius * std::sin(theta);
+    if (d > 0.0 && d < physics.gripMaxDepth) sum += k * y * y;
+  }
+  const double points = std::lround(2.0 * kPi * radius / spacing);
+  return sum / kSteps * points;
+}
+
 ObjectSpec Box(double sizeX, double sizeY, double mass) {
   ObjectSpec o;
   o.name = "object";
   o.shape = ObjectShape::kBox;
   o.sizeX = sizeX;
   o.sizeY = sizeY;
+  o.height = 2.0;
+  o.mass = mass;
+  return o;
+}
+
+ObjectSpec Cylinder(double radius, double mass) {
+  ObjectSpec o;
+  o.name = "object";
+  o.shape = ObjectShape::kCylinder;
+  o.radius = radius;
   o.height = 2.0;
   o.mass = mass;
   return o;
@@ -123,8 +151,47 @@ TEST(GraspRule, ATurnNeedsTableFrictionOverTheBaseAndInertiaAgainstFingertipFric
   const double alpha = s.turnRate * s.turnRate / s.turn;
   const double w = 100.0 * physics.gravity;
   EXPECT_NEAR(p.requirement, std::max(0.5 * w * rEff, 0.4 * w * rEff + mass.inertia * alpha), 1e-6);
-  // friction along each face at the face's distance, 2 cm, from the centre
-  EXPECT_NEAR(p.capacity, 0.8 * p.normalForce * 2.0, 1e-6 * p.capacity);
+  // friction along each face at the face's distance, 2 cm, from the centre, and each fingertip's
+  // couple over its flat contact at the 5 degrees that still count as following (1% for the
+  // samples against the integral)
+  const double couple = FlatFaceCoupleIntegral(physics, 0.3, 0.8, 0.4);
+  const double expected = 0.8 * p.normalForce * 2.0 + 2.0 * DegToRad(5.0) * couple;
+  EXPECT_NEAR(p.capacity, expected, 0.01 * expected);
+  EXPECT_EQ(
+      FlatContactCouple(Cylinder(2.0, 100.0), physics, 0.3, Vec2(2.4, 0.0), 0.8, Vec2(-1.0, 0.0)),
+      0.0);  // a round slice's normals pass through its centre
+}
+
+TEST(GraspRule, AFingertipPushedPastTheCentreOfASmallerRoundSliceStillPushesForward) {
+  // A fingertip of radius 1.5 came in along -x onto a cylinder of radius 1 and was pushed on
+  // until its centre is 0.5 cm beyond the cylinder's axis. Its bodies stopped where they met
+  // the cylinder on the near side (the right, x > 0) and press along the normals there: the sum
+  // pushes along -x. (Radial normals from where the targets lie would push it back, +x.)
+  const PhysicsParams physics;
+  const ObjectSpec cylinder = Cylinder(1.0, 50.0);
+  const Vec2 f = FingertipForce(cylinder, physics, 0.3, Vec2(-0.5, 0.0), 1.5, Vec2(-1.0, 0.0));
+  EXPECT_LT(f.x(), 0.0);
+  EXPECT_NEAR(f.y(), 0.0, 1e-6 * std::abs(f.x()));
+  // Pressed 0.2 cm in, each body's depth along the normal where it stopped, (c - q) . c / rho,
+  // is at least the radial model's rho - |q| (c on the circle of radius rho = R + r), so the
+  // push is at least that model's, and both push along -x.
+  const Vec2 centre(1.0 + 1.5 - 0.2, 0.0);
+  const Vec2 shallow = FingertipForce(cylinder, physics, 0.3, centre, 1.5, Vec2(-1.0, 0.0));
+  const int points = static_cast<int>(std::lround(2.0 * kPi * 1.5 / 0.3));
+  double radialSum = 0.0;
+  for (int phase = 0; phase < 16; ++phase) {
+    for (int i = 0; i < points; ++i) {
+      const double a = 2.0 * kPi * (i + phase / 16.0) / points;
+      const Vec2 q = centre + 1.5 * Vec2(std::cos(a), std::sin(a));
+      const double d = 1.0 + physics.particleRadius - q.norm();
+      if (d > 0.0) radialSum += physics.gripStiffness * d;
+    }
+  }
+  EXPECT_LT(shallow.x(), 0.0);
+  // the pressing points lie within the lens where the contour crosses the circle of radius 1.25:
+  // x = (1.25^2 - 1.5^2 + 2.3^2) / 4.6 = 1.0, y = +-0.75, so the normals fan out by at most
+  // asin(0.75 / 1.25) = 37 degrees and the sum is at least cos(37) = 0.8 of their magnitudes
+  EXPECT_GE(shallow.norm(), 0.8 * radialSum / 16.0);
 }
 
 TEST(GraspRule, AHandOfThreeFingersAgainstAThumbBalancesWithEqualSides) {

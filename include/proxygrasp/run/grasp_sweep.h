@@ -89,9 +89,21 @@ GraspScene GenerateGraspScene(uint64_t seed, int index);
 /// (object frame) pressing the object's layer-0 slice, by the grip model: each contour point
 /// within the particle radius of the slice presses with k min(d + r, d_max) along the face's
 /// inward normal, d its depth; averaged over where the contour's samples (every `spacing`) fall.
-/// For a polygon the face is the one `inward` meets; points beyond its ends press nothing.
+/// For a polygon the face is the one `inward` meets; points beyond its ends press nothing. On a
+/// round slice a body stops where its circle meets the slice's as it comes in along `inward`,
+/// and presses along the normal there by its target's depth along it.
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& center, double radius, const Vec2& inward);
+/// The same for a fingertip that came in to `restCenter` and then moved to `center` relative to
+/// the object (the object lagging): on a round slice the bodies stay where they met it.
+Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                    const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward);
+/// The couple, dyn cm per radian, that one fingertip's bodies pressing a flat face resist a turn
+/// of the object about its origin with: a body at distance y along the face from the foot of the
+/// perpendicular presses k y epsilon harder (or less) when the face turns epsilon, so
+/// sum k y^2 over the bodies that press and are not saturated. 0 on a round slice.
+double FlatContactCouple(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                         const Vec2& center, double radius, const Vec2& inward);
 
 /// The rule, evaluated at the parameters' grip stiffness, depth limit, particle radius and the
 /// contour spacing.
