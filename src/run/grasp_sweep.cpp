@@ -520,10 +520,12 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
     }
     p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
   } else {
-    // the pusher at its depth against the grip's friction and the table's static friction
+    // The pusher is a finger held at its depth, not a force: an object it pushes away presses
+    // it less. It follows (stays within kFollowDistance) when the grip's friction and the table's
+    // static friction resist the push that is left once the object has moved that far.
+    const Vec2 backed = s.pusher.pos - shift - kFollowDistance * s.pusher.inward;
     p.requirement =
-        FingertipForce(o, physics, spacing, s.pusher.pos - shift, s.pusher.radius, s.pusher.inward)
-            .norm();
+        FingertipForce(o, physics, spacing, backed, s.pusher.radius, s.pusher.inward).norm();
     p.capacity = muP * p.normalForce + o.tableStatic * weight;
     p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
   }

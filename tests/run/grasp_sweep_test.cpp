@@ -194,6 +194,23 @@ TEST(GraspRule, AFingertipPushedPastTheCentreOfASmallerRoundSliceStillPushesForw
   EXPECT_GE(shallow.norm(), 0.8 * radialSum / 16.0);
 }
 
+TEST(GraspRule, APusherIsResistedWithTheForceItHasLeftOnceTheObjectMovedTheFollowDistance) {
+  // A third fingertip (R 0.8) with its contour 2 cm inside the box's +y face, held there: an
+  // object it pushes away presses it less, so the box stays within 1 cm of the grip when the
+  // grip's friction and the table's static friction resist the push at 2 - 1 = 1 cm depth.
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.motion = GraspMotion::kPush;
+  s.pushDepth = 2.0;
+  s.pusher.radius = 0.8;
+  s.pusher.inward = Vec2(0.0, -1.0);
+  s.pusher.pos = Vec2(0.0, 2.0 + 0.8 - s.pushDepth);
+  const GraspPrediction p = PredictGrasp(s, physics, 0.3);
+  const double expected = FlatFaceIntegral(physics, 0.3, 0.8, s.pushDepth - 1.0);
+  EXPECT_NEAR(p.requirement, expected, 0.01 * expected);  // samples against the integral
+  EXPECT_NEAR(p.capacity, 0.8 * p.normalForce + 0.5 * 100.0 * physics.gravity, 1e-6 * p.capacity);
+}
+
 TEST(GraspRule, AHandOfThreeFingersAgainstAThumbBalancesWithEqualSides) {
   const PhysicsParams physics;
   GraspScene s = OpposedBoxScene(0.4, 0.8);
