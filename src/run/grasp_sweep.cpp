@@ -17,6 +17,7 @@
 #include <iomanip>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -193,6 +194,33 @@ std::vector<FingerPath> Paths(const GraspScene& s) {
 
 }  // namespace
 
+namespace {
+
+// A fingertip's contour of `radius` has about 2 pi R / spacing samples; where they fall along it
+// varies, so the rule averages over kSamplePhases phases of the sampling: each(offset) is called
+// with every sample's offset from the fingertip's centre, and sums are divided by kSamplePhases.
+constexpr int kSamplePhases = 16;
+template <typename Each>
+void ForEachContourSample(double radius, double spacing, Each&& each) {
+  const int points = std::max(3, static_cast<int>(std::lround(2.0 * kPi * radius / spacing)));
+  for (int phase = 0; phase < kSamplePhases; ++phase) {
+    for (int i = 0; i < points; ++i) {
+      const double a = 2.0 * kPi * (i + static_cast<double>(phase) / kSamplePhases) / points;
+      each(Vec2(radius * Vec2(std::cos(a), std::sin(a))));
+    }
+  }
+}
+
+// how far a body's target q lies beyond its centre on a polygon's face (r minus q's height above
+// the face), or nothing when q lies beyond the face's ends (a body there meets no face)
+std::optional<double> FaceDepth(const Edge& face, const Vec2& q, double r) {
+  const double at = (q - face.start).dot(face.dir);
+  if (at < 0.0 || at > face.length) return std::nullopt;
+  return r - (q - face.start).dot(face.normal);
+}
+
+}  // namespace
+
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& center, double radius, const Vec2& inward) {
   return FingertipForce(object, physics, spacing, center, center, radius, inward);
@@ -205,43 +233,34 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
   const double r = physics.particleRadius;
   // the face the fingertip presses: for a polygon the edge whose outward normal opposes `inward`
   const Edge face = slice.circle ? Edge{} : FacingEdge(slice, -inward);
-  // the contour has about 2 pi R / spacing points; where they fall along it varies, so average
-  // the sum over phases of the sampling
-  const int points = std::max(3, static_cast<int>(std::lround(2.0 * kPi * radius / spacing)));
-  constexpr int kPhases = 16;
   Vec2 total = Vec2::Zero();
-  for (int phase = 0; phase < kPhases; ++phase) {
-    for (int i = 0; i < points; ++i) {
-      const double a = 2.0 * kPi * (i + static_cast<double>(phase) / kPhases) / points;
-      const Vec2 along = radius * Vec2(std::cos(a), std::sin(a));
-      const Vec2 q = center + along;
-      double d;  // how far the target lies beyond the body's centre, along the push
-      Vec2 push;
-      if (slice.circle) {
-        // The body came in along `inward` with its target (at rest) and stopped where its circle
-        // met the slice's: its centre on the circle of radius R + r, at the line's entry. It
-        // presses along the normal there, by its target's depth along that normal.
-        const Vec2 rest = restCenter + along;
-        const double reach = slice.radius + r;
-        const double ae = rest.dot(inward);
-        const double disc = ae * ae - rest.squaredNorm() + reach * reach;
-        if (disc < 0.0) continue;  // its path misses the slice
-        const double t = ae + std::sqrt(disc);
-        if (t < 0.0) continue;  // its target lies short of the slice
-        const Vec2 stop = rest - t * inward;
-        push = -stop / reach;
-        d = (q - stop).dot(push);
-      } else {
-        const double at = (q - face.start).dot(face.dir);
-        if (at < 0.0 || at > face.length) continue;  // beyond the face's ends
-        d = r - (q - face.start).dot(face.normal);
-        push = -face.normal;
-      }
-      if (d <= 0.0) continue;
-      total += push * (k * std::min(d, dMax));
+  ForEachContourSample(radius, spacing, [&](const Vec2& along) {
+    const Vec2 q = center + along;
+    double d;  // how far the target lies beyond the body's centre, along the push
+    Vec2 push;
+    if (slice.circle) {
+      // The body came in along `inward` with its target (at rest) and stopped where its circle
+      // met the slice's: its centre on the circle of radius R + r, at the line's entry. It
+      // presses along the normal there, by its target's depth along that normal.
+      const Vec2 rest = restCenter + along;
+      const double reach = slice.radius + r;
+      const double ae = rest.dot(inward);
+      const double disc = ae * ae - rest.squaredNorm() + reach * reach;
+      if (disc < 0.0) return;  // its path misses the slice
+      const double t = ae + std::sqrt(disc);
+      if (t < 0.0) return;  // its target lies short of the slice
+      const Vec2 stop = rest - t * inward;
+      push = -stop / reach;
+      d = (q - stop).dot(push);
+    } else {
+      const std::optional<double> depth = FaceDepth(face, q, r);
+      if (!depth) return;
+      d = *depth;
+      push = -face.normal;
     }
-  }
-  return total / kPhases;
+    if (d > 0.0) total += push * (k * std::min(d, dMax));
+  });
+  return total / kSamplePhases;
 }
 
 double FlatContactCouple(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
@@ -253,23 +272,16 @@ double FlatContactCouple(const ObjectSpec& object, const PhysicsParams& physics,
   const Edge face = FacingEdge(slice, -inward);
   // the foot of the perpendicular from the centre of the turn (the object's origin) to the face
   const Vec2 foot = face.start - face.start.dot(face.dir) * face.dir;
-  const int points = std::max(3, static_cast<int>(std::lround(2.0 * kPi * radius / spacing)));
-  constexpr int kPhases = 16;
   double sum = 0.0;
-  for (int phase = 0; phase < kPhases; ++phase) {
-    for (int i = 0; i < points; ++i) {
-      const double a = 2.0 * kPi * (i + static_cast<double>(phase) / kPhases) / points;
-      const Vec2 q = center + radius * Vec2(std::cos(a), std::sin(a));
-      const double at = (q - face.start).dot(face.dir);
-      if (at < 0.0 || at > face.length) continue;
-      const double d = r - (q - face.start).dot(face.normal);
-      // a saturated body presses no harder when the face turns into it
-      if (d <= 0.0 || d >= dMax) continue;
-      const double y = (q - foot).dot(face.dir);
-      sum += k * y * y;
-    }
-  }
-  return sum / kPhases;
+  ForEachContourSample(radius, spacing, [&](const Vec2& along) {
+    const Vec2 q = center + along;
+    const std::optional<double> d = FaceDepth(face, q, r);
+    // a saturated body presses no harder when the face turns into it
+    if (!d || *d <= 0.0 || *d >= dMax) return;
+    const double y = (q - foot).dot(face.dir);
+    sum += k * y * y;
+  });
+  return sum / kSamplePhases;
 }
 
 GraspScene GenerateGraspScene(uint64_t seed, int index) {
