@@ -348,6 +348,9 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
 
 void LayeredWorld::Impl::UpdateSupport() {
   for (ParticleData& p : particles) {
+    // A stack out of the worlds this frame stays beyond every object's bounding circle
+    // (UpdateActivity), so no object can support it: on the table already, it stays there.
+    if (!p.active && p.baseLayer == 0 && p.restingOn == kNoObject && p.baseHeight == 0.0) continue;
     const Vec2 pos = BasePosition(p);
     int layer, object;
     double height;
