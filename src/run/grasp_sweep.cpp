@@ -192,10 +192,6 @@ std::vector<FingerPath> Paths(const GraspScene& s) {
   return paths;
 }
 
-}  // namespace
-
-namespace {
-
 // A fingertip's contour of `radius` has about 2 pi R / spacing samples; where they fall along it
 // varies, so the rule averages over kSamplePhases phases of the sampling: each(offset) is called
 // with every sample's offset from the fingertip's centre, and sums are divided by kSamplePhases.
