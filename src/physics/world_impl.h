@@ -308,11 +308,13 @@ struct LayeredWorld::Impl {
   /// table friction points, starting from velocity vel0, omega0 (which already contain the table
   /// impulse the layers applied, taken out first), and the table's normal force (dyn). With
   /// kinetic, the top contacts that slid in staticPass get kinetic limits, and the table's points
-  /// all do when the object moved.
+  /// all slide when the object moved: at mu_k, or at mu_s in the substep in which it breaks loose
+  /// (breakingLoose; Couple() says why).
   FrictionSolve SolveFriction(int oi, const std::vector<int>& onTop, const Vec2& center,
                               const Vec2& vel0, double omega0, const TableImpulse& applied,
                               double normal, bool kinetic,
-                              const FrictionSolve* staticPass = nullptr) const;
+                              const FrictionSolve* staticPass = nullptr,
+                              bool breakingLoose = false) const;
   /// Adds the layers' contact records to the objects' frame diagnostics.
   void CollectRecords(bool lastSubstep);
   /// Writes the object's coupled state to all its slices.
