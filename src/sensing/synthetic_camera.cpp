@@ -430,6 +430,7 @@ struct ComposeRow {
   const float* halo;           // 0..1
   const float* noise;          // standard normal samples, nullptr for none
   double sigma;                // noise deviation, grey
+  float tie;                   // how near a half the level in float may be (ComposeSpan), grey
   float contactLevel, haloLevel;
   uint8_t* out;
 };
@@ -447,27 +448,44 @@ void ComposeSpan(const ComposeRow& r, int begin, int end) {
   const cv::v_float32x4 haloLevel = cv::v_setall_f32(r.haloLevel);
   const cv::v_float32x4 one = cv::v_setall_f32(1.0f);
   const cv::v_float64x2 sigma = cv::v_setall_f64(r.sigma);
+  const cv::v_float32x4 sigmaF = cv::v_setall_f32(static_cast<float>(r.sigma));
+  // The level with noise is lit + sigma n in double. The same sum in float is within r.tie of
+  // it (Compose), so it rounds to the same integer unless it lies within r.tie of a half: a group
+  // of 16 pixels with such a level is done again in double.
+  const cv::v_float32x4 nearHalf = cv::v_setall_f32(0.5f - r.tie);
+  auto lit = [&](int i) {
+    if constexpr (kShapes) {
+      const cv::v_float32x4 b = cv::v_load(r.background + i);
+      const cv::v_float32x4 c = cv::v_load(r.contact + i);
+      const cv::v_float32x4 level =
+          b + (contactLevel - b) * c + haloLevel * cv::v_load(r.halo + i) * (one - c);
+      return cv::v_load(r.gain + i) * level;
+    } else {
+      return cv::v_load(r.litBackground + i);
+    }
+  };
   for (; u + 16 <= end; u += 16) {
     cv::v_int32x4 rounded[4];
-    for (int k = 0; k < 4; ++k) {
-      const int i = u + 4 * k;
-      cv::v_float32x4 lit;
-      if constexpr (kShapes) {
-        const cv::v_float32x4 b = cv::v_load(r.background + i);
-        const cv::v_float32x4 c = cv::v_load(r.contact + i);
-        const cv::v_float32x4 level =
-            b + (contactLevel - b) * c + haloLevel * cv::v_load(r.halo + i) * (one - c);
-        lit = cv::v_load(r.gain + i) * level;
-      } else {
-        lit = cv::v_load(r.litBackground + i);
+    if (!r.noise) {
+      // without noise the level is the float itself, which double holds exactly
+      for (int k = 0; k < 4; ++k) rounded[k] = cv::v_round(lit(u + 4 * k));
+    } else {
+      cv::v_float32x4 tie = cv::v_setzero_f32();
+      for (int k = 0; k < 4; ++k) {
+        const int i = u + 4 * k;
+        const cv::v_float32x4 level = lit(i) + sigmaF * cv::v_load(r.noise + i);
+        rounded[k] = cv::v_round(level);
+        tie = tie | (cv::v_abs(level - cv::v_cvt_f32(rounded[k])) > nearHalf);
       }
-      cv::v_float64x2 low = cv::v_cvt_f64(lit), high = cv::v_cvt_f64_high(lit);
-      if (r.noise) {
-        const cv::v_float32x4 n = cv::v_load(r.noise + i);
-        low = low + sigma * cv::v_cvt_f64(n);
-        high = high + sigma * cv::v_cvt_f64_high(n);
+      if (cv::v_check_any(tie)) {
+        for (int k = 0; k < 4; ++k) {
+          const int i = u + 4 * k;
+          const cv::v_float32x4 l = lit(i), n = cv::v_load(r.noise + i);
+          const cv::v_float64x2 low = cv::v_cvt_f64(l) + sigma * cv::v_cvt_f64(n);
+          const cv::v_float64x2 high = cv::v_cvt_f64_high(l) + sigma * cv::v_cvt_f64_high(n);
+          rounded[k] = cv::v_round(low, high);
+        }
       }
-      rounded[k] = cv::v_round(low, high);
     }
     cv::v_store(r.out + u, cv::v_pack_u(cv::v_pack(rounded[0], rounded[1]),
                                         cv::v_pack(rounded[2], rounded[3])));
@@ -614,7 +632,11 @@ void SyntheticCamera::DrawNoiseBank() {
   // a bank of standard normal samples; frames draw their noise rows from random places in it
   constexpr size_t kBankSize = size_t{1} << 18;
   m_noiseBank.resize(std::max(kBankSize, static_cast<size_t>(4 * m_params.width)));
-  for (float& n : m_noiseBank) n = static_cast<float>(m_rng.Normal());
+  m_noiseMax = 0.0f;
+  for (float& n : m_noiseBank) {
+    n = static_cast<float>(m_rng.Normal());
+    m_noiseMax = std::max(m_noiseMax, std::abs(n));
+  }
 }
 
 MaybeError SyntheticCamera::SetParams(const SyntheticCameraParams& params) {
@@ -648,6 +670,12 @@ cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo,
   row.contactLevel = static_cast<float>(m_params.contactLevel);
   row.haloLevel = static_cast<float>(m_params.haloLevel);
   row.sigma = m_params.noise;
+  // Float rounds sigma, the product sigma n and the sum lit + sigma n each within a relative
+  // 2^-24; with |lit| < 1024 grey (a level of at most background + contact + halo, dimmed) the
+  // float sum is within 2^-24 (1024 + 3 sigma max|n|) of the double one. Four times that, and
+  // at least 1e-3 grey.
+  row.tie = static_cast<float>(
+      std::max(1e-3, 4.0 * std::ldexp(1024.0 + 3.0 * m_params.noise * m_noiseMax, -24)));
   std::vector<std::pair<int, int>> spans;
   for (int v = 0; v < h; ++v) {
     row.gain = m_gain.ptr<float>(v);

@@ -99,6 +99,7 @@ class SyntheticCamera {
   cv::Mat m_background;            // CV_32F: background level before vignetting, grey
   cv::Mat m_litBackground;         // CV_32F: m_gain * m_background, the noiseless clear table
   std::vector<float> m_noiseBank;  // standard normal samples, drawn once from the seed
+  float m_noiseMax = 0.0f;         // the largest |sample| in the bank
 
   // Render's coverage and halo images (CV_32F), kept between frames: only the rectangles the last
   // frame drew into are cleared. A copy of the camera starts with its own (empty) scratch, so two
