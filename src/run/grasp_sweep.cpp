@@ -259,25 +259,25 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
   return total / kSamplePhases;
 }
 
-double FlatContactCouple(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
-                         const Vec2& center, double radius, const Vec2& inward) {
+double NormalForceTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                         const Vec2& center, double radius, const Vec2& inward, double turn) {
   const CrossSection slice = Slice0(object, physics);
   if (slice.circle) return 0.0;  // a round slice's normals all pass through its centre
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
   const Edge face = FacingEdge(slice, -inward);
-  // the foot of the perpendicular from the centre of the turn (the object's origin) to the face
-  const Vec2 foot = face.start - face.start.dot(face.dir) * face.dir;
-  double sum = 0.0;
+  const double c = std::cos(turn), s = std::sin(turn);
+  double torque = 0.0;
   ForEachContourSample(radius, spacing, [&](const Vec2& along) {
-    const Vec2 q = center + along;
+    const Vec2 rest = center + along;
+    const Vec2 q(c * rest.x() - s * rest.y(), s * rest.x() + c * rest.y());
     const std::optional<double> d = FaceDepth(face, q, r);
-    // a saturated body presses no harder when the face turns into it
-    if (!d || *d <= 0.0 || *d >= dMax) return;
-    const double y = (q - foot).dot(face.dir);
-    sum += k * y * y;
+    if (!d || *d <= 0.0) return;
+    // the body follows its target along the face and presses along the face's inward normal
+    const Vec2 at = q - (q - face.start).dot(face.normal) * face.normal;
+    torque += Cross(at, -face.normal * (k * std::min(*d, dMax)));
   });
-  return sum / kSamplePhases;
+  return torque / kSamplePhases;
 }
 
 GraspScene GenerateGraspScene(uint64_t seed, int index) {
@@ -518,13 +518,18 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
                              o.tableKinetic * weight * rEff + mass.inertia * alpha);
     // each fingertip's friction acts along its face, at the face's distance from the centre
     const CrossSection slice = Slice0(o, physics);
+    const double turnSign = s.turn >= 0.0 ? 1.0 : -1.0;
     for (size_t i = 0; i < s.fingers.size(); ++i) {
       const GraspFinger& f = s.fingers[i];
       p.capacity += muP * normal[i] * ReachAlong(slice, -f.inward);
-      // the couple of the normal forces over a flat contact, once the object lags the turn by
-      // the angle that still counts as following
+      // the normal forces on flat faces, once the object lags the turn by the angle that still
+      // counts as following: in its frame the fingertip has turned on by that angle about its
+      // centre, so its pad presses further along the face (and deeper at one end)
+      const Vec2 at = f.pos - shift;
       p.capacity +=
-          kFollowAngle * FlatContactCouple(o, physics, spacing, f.pos - shift, f.radius, f.inward);
+          turnSign *
+          (NormalForceTorque(o, physics, spacing, at, f.radius, f.inward, turnSign * kFollowAngle) -
+           NormalForceTorque(o, physics, spacing, at, f.radius, f.inward, 0.0));
     }
     p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
   } else {

@@ -52,6 +52,22 @@ double FlatFaceCoupleIntegral(const PhysicsParams& physics, double spacing, doub
   return sum / kSteps * points;
 }
 
+// The sum of k d^2 over the same fingertip's pressing points, d = how far a point's target lies
+// beyond its body's centre (unsaturated points only); integrated like FlatFaceIntegral.
+double FlatFaceSquareIntegral(const PhysicsParams& physics, double spacing, double radius,
+                              double depth) {
+  const double k = physics.gripStiffness, r = physics.particleRadius;
+  constexpr int kSteps = 200000;
+  double sum = 0.0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
+    const double d = depth - radius * (1.0 - std::cos(theta)) + r;
+    if (d > 0.0 && d < physics.gripMaxDepth) sum += k * d * d;
+  }
+  const double points = std::lround(2.0 * kPi * radius / spacing);
+  return sum / kSteps * points;
+}
+
 ObjectSpec Box(double sizeX, double sizeY, double mass) {
   ObjectSpec o;
   o.name = "object";
@@ -151,15 +167,26 @@ TEST(GraspRule, ATurnNeedsTableFrictionOverTheBaseAndInertiaAgainstFingertipFric
   const double alpha = s.turnRate * s.turnRate / s.turn;
   const double w = 100.0 * physics.gravity;
   EXPECT_NEAR(p.requirement, std::max(0.5 * w * rEff, 0.4 * w * rEff + mass.inertia * alpha), 1e-6);
-  // friction along each face at the face's distance, 2 cm, from the centre, and each fingertip's
-  // couple over its flat contact at the 5 degrees that still count as following (1% for the
-  // samples against the integral)
-  const double couple = FlatFaceCoupleIntegral(physics, 0.3, 0.8, 0.4);
-  const double expected = 0.8 * p.normalForce * 2.0 + 2.0 * DegToRad(5.0) * couple;
-  EXPECT_NEAR(p.capacity, expected, 0.01 * expected);
-  EXPECT_EQ(
-      FlatContactCouple(Cylinder(2.0, 100.0), physics, 0.3, Vec2(2.4, 0.0), 0.8, Vec2(-1.0, 0.0)),
-      0.0);  // a round slice's normals pass through its centre
+  // Friction along each face at the face's distance, 2 cm, from the centre, and the torque of
+  // each fingertip's normal forces once the object lags by the 5 degrees that still count as
+  // following. A fingertip turned by epsilon about the centre: a target at (x, y) (x along the
+  // face's normal from the centre, y along the face; the face at h = 2) goes to
+  // (x - y eps, y + x eps), lies d + y eps deep and presses at y + x eps along the face, so the
+  // torque k d y grows by eps sum k (y^2 + d x), x = h + r - d: eps (k sum y^2 + N_f (h + r) -
+  // k sum d^2). The pad's shift along the face (the N_f (h + r) term) is most of it. 5% for the
+  // terms of second order in eps (the targets' x (1 - cos eps) = 0.01 cm of depth, 2.5% of the
+  // mean) and the samples against the integrals.
+  const double eps = DegToRad(5.0), h = 2.0;
+  const double nf = FlatFaceIntegral(physics, 0.3, 0.8, 0.4);
+  const double couple = FlatFaceCoupleIntegral(physics, 0.3, 0.8, 0.4) +
+                        nf * (h + physics.particleRadius) -
+                        FlatFaceSquareIntegral(physics, 0.3, 0.8, 0.4);
+  const double expected = 0.8 * p.normalForce * 2.0 + 2.0 * eps * couple;
+  EXPECT_NEAR(p.capacity, expected, 0.05 * expected);
+  // a round slice's normals pass through its centre
+  EXPECT_EQ(NormalForceTorque(Cylinder(2.0, 100.0), physics, 0.3, Vec2(2.4, 0.0), 0.8,
+                              Vec2(-1.0, 0.0), eps),
+            0.0);
 }
 
 TEST(GraspRule, AFingertipPushedPastTheCentreOfASmallerRoundSliceStillPushesForward) {

@@ -98,12 +98,15 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 /// the object (the object lagging): on a round slice the bodies stay where they met it.
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward);
-/// The couple, dyn cm per radian, that one fingertip's bodies pressing a flat face resist a turn
-/// of the object about its origin with: a body at distance y along the face from the foot of the
-/// perpendicular presses k y epsilon harder (or less) when the face turns epsilon, so
-/// sum k y^2 over the bodies that press and are not saturated. 0 on a round slice.
-double FlatContactCouple(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
-                         const Vec2& center, double radius, const Vec2& inward);
+/// The torque, dyn cm about the object's origin (counter-clockwise positive), of the normal
+/// forces of one fingertip's bodies on the flat face it presses, with the fingertip (contour
+/// centre `center`, object frame) turned by `turn` radians about the origin: each body follows
+/// its target along the face and presses with k min(d, d_max) along the face's inward normal.
+/// Turned by epsilon against the object, a pad shifts along the face by about its distance from
+/// the origin times epsilon, and its bodies at y along the face press k y epsilon deeper. 0 on a
+/// round slice, whose normals pass through its centre.
+double NormalForceTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                         const Vec2& center, double radius, const Vec2& inward, double turn);
 
 /// The rule, evaluated at the parameters' grip stiffness, depth limit, particle radius and the
 /// contour spacing.
