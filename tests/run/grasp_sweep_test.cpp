@@ -34,38 +34,37 @@ double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double rad
   return sum / kSteps * points;
 }
 
-// The couple per radian of the same fingertip against a face turning about the foot of the
-// perpendicular through the fingertip's centre: k y^2 summed over the points that press and are not
-// saturated, y = R sin(theta) along the face; integrated like FlatFaceIntegral.
-double FlatFaceCoupleIntegral(const PhysicsParams& physics, double spacing, double radius,
-                              double depth) {
+// k times term(d, y) summed over the same fingertip's points that press and are not saturated,
+// d = how far a point's target lies beyond its body's centre, y = R sin(theta) along the face;
+// integrated like FlatFaceIntegral.
+template <typename Term>
+double UnsaturatedIntegral(const PhysicsParams& physics, double spacing, double radius,
+                           double depth, Term term) {
   const double k = physics.gripStiffness, r = physics.particleRadius;
   constexpr int kSteps = 200000;
   double sum = 0.0;
   for (int i = 0; i < kSteps; ++i) {
     const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
     const double d = depth - radius * (1.0 - std::cos(theta)) + r;
-    const double y = radius * std::sin(theta);
-    if (d > 0.0 && d < physics.gripMaxDepth) sum += k * y * y;
+    if (d > 0.0 && d < physics.gripMaxDepth) sum += k * term(d, radius * std::sin(theta));
   }
   const double points = std::lround(2.0 * kPi * radius / spacing);
   return sum / kSteps * points;
 }
 
-// The sum of k d^2 over the same fingertip's pressing points, d = how far a point's target lies
-// beyond its body's centre (unsaturated points only); integrated like FlatFaceIntegral.
+// The couple per radian of the same fingertip against a face turning about the foot of the
+// perpendicular through the fingertip's centre: k y^2 over the unsaturated points.
+double FlatFaceCoupleIntegral(const PhysicsParams& physics, double spacing, double radius,
+                              double depth) {
+  return UnsaturatedIntegral(physics, spacing, radius, depth,
+                             [](double, double y) { return y * y; });
+}
+
+// k d^2 over the same points.
 double FlatFaceSquareIntegral(const PhysicsParams& physics, double spacing, double radius,
                               double depth) {
-  const double k = physics.gripStiffness, r = physics.particleRadius;
-  constexpr int kSteps = 200000;
-  double sum = 0.0;
-  for (int i = 0; i < kSteps; ++i) {
-    const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
-    const double d = depth - radius * (1.0 - std::cos(theta)) + r;
-    if (d > 0.0 && d < physics.gripMaxDepth) sum += k * d * d;
-  }
-  const double points = std::lround(2.0 * kPi * radius / spacing);
-  return sum / kSteps * points;
+  return UnsaturatedIntegral(physics, spacing, radius, depth,
+                             [](double d, double) { return d * d; });
 }
 
 ObjectSpec Box(double sizeX, double sizeY, double mass) {
