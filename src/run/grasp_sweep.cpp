@@ -39,6 +39,7 @@ constexpr double kPushSpeed = 6.0;  // the pusher's peak speed, cm/s
 constexpr double kFollowDistance = 1.0;         // cm
 constexpr double kFollowAngle = DegToRad(5.0);  // rad
 constexpr double kBoundaryBand = 0.2;           // margins within 20% of 1 are not scored
+constexpr double kBreakLooseSlip = 0.5;         // cm a grip may slide across before it counts
 constexpr double kSpeedFactor = 1.5;            // peak object speed against the contacts
 constexpr double kSpeedAllowance = 5.0;         // cm/s
 
@@ -223,13 +224,15 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 }
 
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
-                    const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward) {
+                    const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
+                    double* pressing) {
   const CrossSection slice = Slice0(object, physics);
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
   // the face the fingertip presses: for a polygon the edge whose outward normal opposes `inward`
   const Edge face = slice.circle ? Edge{} : FacingEdge(slice, -inward);
   Vec2 total = Vec2::Zero();
+  int bodies = 0;
   ForEachContourSample(radius, spacing, [&](const Vec2& along) {
     const Vec2 q = center + along;
     double d;  // how far the target lies beyond the body's centre, along the push
@@ -254,8 +257,12 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
       d = *depth;
       push = -face.normal;
     }
-    if (d > 0.0) total += push * (k * std::min(d, dMax));
+    if (d > 0.0) {
+      total += push * (k * std::min(d, dMax));
+      ++bodies;
+    }
   });
+  if (pressing) *pressing = static_cast<double>(bodies) / kSamplePhases;
   return total / kSamplePhases;
 }
 
@@ -492,19 +499,67 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
   if (s.motion == GraspMotion::kCarry) {
     const double a = s.speed * s.speed / s.distance;  // bang-bang: v^2 / D
     // to break loose from the table, then to accelerate while sliding
-    p.requirement = std::max(o.tableStatic * weight, o.tableKinetic * weight + mass.mass * a);
+    const double breakLoose = o.tableStatic * weight;
+    const double sliding = o.tableKinetic * weight + mass.mass * a;
+    p.requirement = std::max(breakLoose, sliding);
     const Vec2 u = Rotate(s.direction, -o.pose.angle);  // object frame
     if (s.grip == GraspGrip::kOpposed) {
       const Vec2 axis = s.fingers.front().inward;
-      const double along = p.requirement * std::abs(u.dot(axis));
-      const double across = p.requirement * std::abs(u.x() * axis.y() - u.y() * axis.x());
-      // along the axis the leading side pushes; across it friction holds, on the normal force
-      // of both sides, which the push shifts from one side to the other without reducing it
-      // until the trailing side lets go
-      const double friction = muP * std::max(p.normalForce, along);
-      const double push = pushCapacity(u.dot(axis) >= 0 ? axis : Vec2(-axis));
-      p.margin = std::min(across > 0 ? friction / across : kInfinity,
-                          along > 0 ? push / along : kInfinity);
+      const double cosE = std::abs(u.dot(axis));
+      const double sinE = std::abs(u.x() * axis.y() - u.y() * axis.x());
+      const Vec2 lead = u.dot(axis) >= 0 ? axis : Vec2(-axis);
+      const double push = pushCapacity(lead);
+      // Sliding (kinetic friction and the acceleration, along u): along the axis the leading
+      // side pushes; across it friction holds, on the normal force of both sides, which the push
+      // shifts from one side to the other without reducing it until the trailing side lets go.
+      const double along = sliding * cosE, across = sliding * sinE;
+      const double slideMargin =
+          std::min(across > 0 ? muP * std::max(p.normalForce, along) / across : kInfinity,
+                   along > 0 ? push / along : kInfinity);
+      // Breaking loose: the table's static friction gives way to a force of mu_s W in any
+      // direction. While the object is stuck the grip moves on along u; it lags l along the axis
+      // (the leading side presses deeper) and l tan(angle) across it, where each pressing body
+      // is a spring k until friction slides it. Slid further across than kBreakLooseSlip, the
+      // grip would leave the object that far behind for good.
+      const double k = physics.gripStiffness;
+      double looseForce = 0.0;
+      // the force with the object lagging l along the axis and `acrossLag` across it
+      auto breakingForce = [&](double l, double acrossLag, double& elastic) {
+        Vec2 sum = Vec2::Zero();
+        double normalSum = 0.0, bodies = 0.0;
+        for (const GraspFinger& f : s.fingers) {
+          double pressing = 0.0;
+          const Vec2 force =
+              FingertipForce(o, physics, spacing, f.pos - shift, f.pos - (shift - lead * l),
+                             f.radius, f.inward, &pressing);
+          sum += force;
+          normalSum += force.norm();
+          bodies += pressing;
+        }
+        // how far across the bodies' springs stretch before their friction slides, cm
+        elastic = bodies > 0.0 ? muP * normalSum / (k * bodies) : 0.0;
+        const double held =
+            std::min(k * bodies * std::min(acrossLag, elastic + kBreakLooseSlip), muP * normalSum);
+        return std::hypot(std::max(sum.dot(lead), 0.0), held);
+      };
+      constexpr int kLags = 32;
+      for (int j = 0; j <= kLags; ++j) {
+        const double l = physics.gripMaxDepth * j / kLags;
+        const double acrossLag = cosE > 0.0 ? l * sinE / cosE : kInfinity;
+        double elastic = 0.0;
+        const double force = breakingForce(l, acrossLag, elastic);
+        if (acrossLag <= elastic + kBreakLooseSlip) {
+          looseForce = std::max(looseForce, force);
+          continue;
+        }
+        // the grip reaches the slip it may take at a smaller axial lag: the last one tried
+        const double cap = elastic + kBreakLooseSlip;
+        const double last = cosE > 0.0 ? cap * cosE / sinE : 0.0;
+        looseForce = std::max(looseForce, breakingForce(last, cap, elastic));
+        break;
+      }
+      const double looseMargin = breakLoose > 0.0 ? looseForce / breakLoose : kInfinity;
+      p.margin = std::min(slideMargin, looseMargin);
       p.capacity = p.margin * p.requirement;
     } else {
       // caged: the fingertips push it in any direction

@@ -154,6 +154,70 @@ TEST(GraspRule, ACarryAcrossAnOpposedGripNeedsTableFrictionAndInertiaAgainstFric
   EXPECT_EQ(p.canHold, p.margin >= 1.0);
 }
 
+// How many of a fingertip's contour points press (d + r > 0) against a flat face, integrated
+// along its outline like FlatFaceIntegral.
+double FlatFacePressingPoints(const PhysicsParams& physics, double spacing, double radius,
+                              double depth) {
+  constexpr int kSteps = 200000;
+  int pressing = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
+    if (depth - radius * (1.0 - std::cos(theta)) + physics.particleRadius > 0.0) ++pressing;
+  }
+  return static_cast<double>(pressing) / kSteps * std::lround(2.0 * kPi * radius / spacing);
+}
+
+TEST(GraspRule, AnObliqueCarryBreaksLooseOnceTheGripsForceReachesStaticFrictionInAnyDirection) {
+  // Two fingertips (R 0.8 cm, contours 0.4 cm inside) on the x faces of a 4 cm box of 300 g
+  // (mu_s 0.5, mu_k 0.3, mu_p 0.11), carried 20 degrees off the grip's axis. The table's static
+  // friction is a circle: the box breaks loose once the grip's force reaches mu_s W in any
+  // direction. While it is stuck the grip moves on: the box lags l along the axis, where the
+  // leading side presses k min(d, d_max) deeper and the trailing side less, F_par(l) = F(0.4 + l) -
+  // F(0.4 - l), and l tan 20 deg across, where each pressing body is a spring k until its friction
+  // mu_p (its normal force) slides: F_perp = min(k n l tan 20, mu_p N(l)). The across lag stays
+  // below 0.5 cm for every l <= d_max (tan 20 = 0.36), so no slip limit applies. Then it slides:
+  // mu_k W + M a along the carry, the axis part from the leading side's push, the rest from
+  // friction, as for a carry across the grip.
+  PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.object.mass = 300.0;
+  s.object.tableKinetic = 0.3;
+  s.object.particleFriction = 0.11;
+  s.motion = GraspMotion::kCarry;
+  const double angle = DegToRad(20.0);
+  s.direction = Vec2(std::cos(angle), std::sin(angle));
+  s.distance = 10.0;
+  s.speed = 5.0;
+  const GraspPrediction p = PredictGrasp(s, physics, 0.3);
+
+  const double k = physics.gripStiffness, muP = 0.11, w = 300.0 * physics.gravity;
+  const double staticLimit = 0.5 * w, sliding = 0.3 * w + 300.0 * (5.0 * 5.0 / 10.0);
+  const double n0 = 2.0 * FlatFaceIntegral(physics, 0.3, 0.8, 0.4);
+  double loose = 0.0, push = 0.0;
+  constexpr int kLags = 100;
+  for (int j = 0; j <= kLags; ++j) {
+    const double l = physics.gripMaxDepth * j / kLags;
+    const double lead = FlatFaceIntegral(physics, 0.3, 0.8, 0.4 + l);
+    const double trail = FlatFaceIntegral(physics, 0.3, 0.8, 0.4 - l);
+    const double bodies = FlatFacePressingPoints(physics, 0.3, 0.8, 0.4 + l) +
+                          FlatFacePressingPoints(physics, 0.3, 0.8, 0.4 - l);
+    const double across = std::min(k * bodies * l * std::tan(angle), muP * (lead + trail));
+    loose = std::max(loose, std::hypot(lead - trail, across));
+    if (j > 0) push = std::max(push, lead - trail);
+  }
+  const double slide =
+      std::min(muP * std::max(n0, sliding * std::cos(angle)) / (sliding * std::sin(angle)),
+               push / (sliding * std::cos(angle)));
+  const double expected = std::min(loose / staticLimit, slide);
+  // the rule sums contour samples over 16 phases (1%, as above) and tries 32 lags
+  EXPECT_NEAR(p.margin, expected, 0.02 * expected);
+  EXPECT_NEAR(p.requirement, std::max(staticLimit, sliding), 1e-6);
+  // Splitting mu_s W itself into the axis and across parts, as the rule did before, asks friction
+  // alone for mu_s W sin 20 deg: this grip then could not break loose at all.
+  EXPECT_LT(muP * n0 / (staticLimit * std::sin(angle)), 0.8);
+  EXPECT_GT(p.margin, 1.2);
+}
+
 TEST(GraspRule, ATurnNeedsTableFrictionOverTheBaseAndInertiaAgainstFingertipFrictionTorque) {
   const PhysicsParams physics;
   GraspScene s = OpposedBoxScene(0.4, 0.8);
@@ -307,6 +371,31 @@ TEST(GraspSweep, AFirmGripCarriesAHeavyBoxAndASlipperyOneIsLeftBehind) {
   EXPECT_FALSE(slipped.value().followed);
   // it stays behind: the end error is most of the 8 cm carry (within the grip's 0.5 cm drag)
   EXPECT_GT(slipped.value().endError, 8.0 - 0.5);
+}
+
+TEST(GraspSweep, AnObliqueCarryTheGripCanOnlyBreakLooseAsAWholeIsCarried) {
+  // The scene of GraspRule.AnObliqueCarryBreaksLoose... run through the pipeline: friction
+  // across the grip (mu_p N = 39,700 dyn) is below mu_s W sin 20 deg (50,300 dyn), but the
+  // grip's force as a whole reaches mu_s W while the box lags a fraction of a centimetre, and
+  // sliding needs only mu_k W + M a. The rule says it can hold: it must follow within 1 cm.
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.object.mass = 300.0;
+  s.object.tableKinetic = 0.3;
+  s.object.particleFriction = 0.11;
+  s.motion = GraspMotion::kCarry;
+  s.direction = Vec2(std::cos(DegToRad(20.0)), std::sin(DegToRad(20.0)));
+  s.distance = 10.0;
+  s.speed = 5.0;
+  s.object.pose.pos = Vec2(24.0, 20.0);
+  s.moveStart = 0.9;
+  s.moveEnd = s.moveStart + 2.0 * s.distance / s.speed;
+  s.duration = s.moveEnd + 0.7;
+  ASSERT_GT(PredictGrasp(s, physics, 0.3).margin, 1.2);
+  Result<GraspOutcome> run = RunGraspScene(s, 4);
+  ASSERT_TRUE(run.ok()) << run.error().Format();
+  EXPECT_TRUE(run.value().followed) << run.value().endError << " cm";
+  EXPECT_FALSE(run.value().ejected) << run.value().peakSpeed << " cm/s";
 }
 
 TEST(GraspSweep, BadOptionsAreErrorsNamingThem) {

@@ -96,8 +96,11 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
                     const Vec2& center, double radius, const Vec2& inward);
 /// The same for a fingertip that came in to `restCenter` and then moved to `center` relative to
 /// the object (the object lagging): on a round slice the bodies stay where they met it.
+/// `pressing`, when given, receives how many of its bodies press (averaged over the sampling
+/// phases, like the force).
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
-                    const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward);
+                    const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
+                    double* pressing = nullptr);
 /// The torque, dyn cm about the object's origin (counter-clockwise positive), of the normal
 /// forces of one fingertip's bodies on the flat face it presses, with the fingertip (contour
 /// centre `center`, object frame) turned by `turn` radians about the origin: each body follows
