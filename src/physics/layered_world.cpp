@@ -113,6 +113,7 @@ MaybeError LayeredWorld::Build(const PhysicsParams& physics, const TableParams& 
 
   w.params = physics;
   w.table = table;
+  w.frameSubsteps = physics.substeps;
   w.dt = 1.0 / (physics.frameRate * physics.substeps);
   w.pool = std::make_unique<ThreadPool>(physics.threads);
 
@@ -275,6 +276,7 @@ void LayeredWorld::ApplyPlan(const ParticlePlan& plan) {
 void LayeredWorld::StepFrame() {
   Impl& w = *m_impl;
   if (w.layers.empty()) return;
+  const std::vector<double> pressed = w.PressingBodies();  // before the forces are cleared
   for (ObjectData& o : w.objects) {
     o.forces.assign(w.layers.size(), LayerForces{});
     o.topFriction.setZero();
@@ -283,9 +285,12 @@ void LayeredWorld::StepFrame() {
   // particles far from every object stay out of the Box2D worlds this frame
   w.UpdateActivity();
   w.UpdateSpin();
+  // enough substeps for the bodies about to press each object (docs/physics.md, "Substeps that
+  // keep a grip stable")
+  if (const int n = w.StableSubsteps(pressed); n != w.frameSubsteps) w.UseSubsteps(n);
 
   // substeps: control, step the layers, couple, support
-  const int S = w.params.substeps;
+  const int S = w.frameSubsteps;
   w.box2dMs = 0.0;
   for (int s = 0; s < S; ++s) {
     w.ApplyKinematicControl(static_cast<double>(s + 1) / S);
@@ -555,6 +560,10 @@ int64_t LayeredWorld::Frame() const {
   return m_impl->frame;
 }
 
+int LayeredWorld::FrameSubsteps() const {
+  return m_impl->frameSubsteps;
+}
+
 int LayeredWorld::PlanErrors() const {
   return m_impl->planErrors;
 }
@@ -574,17 +583,13 @@ MaybeError LayeredWorld::SetParams(const PhysicsParams& physics) {
   }
   const PhysicsParams old = w.params;
   w.params = physics;
-  w.dt = 1.0 / (physics.frameRate * physics.substeps);
   if (physics.threads != old.threads) w.pool = std::make_unique<ThreadPool>(physics.threads);
   for (size_t oi = 0; oi < w.objects.size(); ++oi) {
     w.particleFriction[oi] = ParticleFriction(w.objects[oi].spec, physics);
   }
   if (physics.gripStiffness != old.gripStiffness || physics.gripDamping != old.gripDamping ||
-      physics.substeps != old.substeps) {
-    const b2MassData md = w.ParticleMassData();
-    for (ParticleData& p : w.particles) {
-      for (b2Body* b : p.bodies) b->SetMassData(&md);
-    }
+      physics.substeps != w.frameSubsteps) {
+    w.UseSubsteps(physics.substeps);
   }
   return std::nullopt;
 }

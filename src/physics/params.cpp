@@ -4,7 +4,12 @@ namespace pg {
 
 void Describe(PhysicsParams& p, ParamVisitor& v) {
   v.Real("frame_rate", p.frameRate, 1, 1000, "Hz", {"camera frames per second", Apply::kRestart});
-  v.Integer("substeps", p.substeps, 1, 64, "1", "physics substeps per frame");
+  v.Integer("substeps", p.substeps, 1, 64, "1",
+            "physics substeps per frame: the least; a frame takes more when a light object is "
+            "pressed by many bodies (max_substeps)");
+  v.Integer("max_substeps", p.maxSubsteps, 1, 64, "1",
+            "most substeps a frame takes so that the opposing bodies pressing an object weigh at "
+            "most twice the object (stability; a value at or below substeps adds none)");
   v.Integer("velocity_iterations", p.velocityIterations, 1, 100, "1",
             "Box2D velocity iterations per substep");
   v.Integer("position_iterations", p.positionIterations, 1, 100, "1",

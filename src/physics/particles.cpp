@@ -70,6 +70,85 @@ b2MassData LayeredWorld::Impl::ParticleMassData() const {
   return md;
 }
 
+// Bodies pressing an object each act on where its face was when the substep began. Pushed
+// towards one side, the object carries that side's bodies with it in the contact solve (their
+// mass adds to its own) while the other side's push is still the one from the substep's start:
+// with n bodies of mass m pressing, a mass-spring chain of stiffness n k and mass M + n m / 2
+// stepped with dt, stable while n k dt^2 < 4/3 (M + n m / 2), which with m = k dt^2 is n m < 4 M.
+// levels/deep_squeeze.toml's 20 g box, pressed by 20 to 27 bodies, chattered at 2 substeps
+// (n m = 80 to 108 g) and held still at 3 (36 to 48 g); with 2 substeps it held for a box of
+// 30 g and more (n m / M up to 3.6) and chattered for 25 g (4.3). Frames keep n m at half the
+// limit, 2 M: at 2.9 M a pusher arriving within one frame still let that box give 17% more
+// than at 2 M (Substeps test).
+constexpr double kStableMassRatio = 2.0;
+
+std::vector<double> LayeredWorld::Impl::PressingBodies() const {
+  // a layer's contacts times the share of their normal force that opposing contacts cancel: all
+  // of it for a balanced squeeze, none for a push from one side
+  std::vector<double> pressed(objects.size(), 0.0);
+  for (size_t oi = 0; oi < objects.size(); ++oi) {
+    for (const LayerForces& f : objects[oi].forces) {
+      if (f.contacts == 0 || !(f.normalMagnitude > 0.0)) continue;
+      pressed[oi] += f.contacts * (1.0 - std::min(1.0, f.normal.norm() / f.normalMagnitude));
+    }
+  }
+  return pressed;
+}
+
+int LayeredWorld::Impl::StableSubsteps(const std::vector<double>& pressed) const {
+  const int least = params.substeps;
+  const int most = std::max(params.maxSubsteps, least);
+  int needed = least;
+  if (most == least) return needed;
+  // bodies whose targets lie on or within a body's radius of a footprint will press it this
+  // frame, inwards where their target is nearest its edge; as above, count those that opposing
+  // ones cancel
+  std::vector<double> coming(objects.size(), 0.0);
+  std::vector<Vec2> pushes(objects.size(), Vec2::Zero());
+  const double r = params.particleRadius;
+  for (const ParticleData& p : particles) {
+    if (!p.active || p.bodies.empty() || p.restingOn != kNoObject) continue;
+    for (size_t oi = 0; oi < objects.size(); ++oi) {
+      const ObjectData& o = objects[oi];
+      const double reach = o.boundRadius + r;
+      if ((p.target - o.pose.pos).squaredNorm() > reach * reach) continue;
+      const Vec2 local = o.ToLocal(p.target);
+      const double depth = FootprintSignedDistance(o.spec, o.footprint, local);
+      if (depth <= -r) continue;
+      // its bodies in the layers the object's slices occupy
+      const int top = p.baseLayer + static_cast<int>(p.bodies.size());
+      const int n = std::min(top, static_cast<int>(o.slices.size())) - p.baseLayer;
+      if (n <= 0) continue;
+      Vec2 inward = NearestFootprintPoint(o.footprint, local) - local;
+      if (depth > 0.0) inward = -inward;
+      const double length = inward.norm();
+      if (!(length > 1e-9)) inward = o.props.centroid - local;
+      coming[oi] += n;
+      pushes[oi] += n * inward.normalized();
+    }
+  }
+  const double k = params.gripStiffness, c = params.gripDamping;
+  for (size_t oi = 0; oi < objects.size(); ++oi) {
+    const double n = std::max(pressed[oi], coming[oi] - pushes[oi].norm());
+    if (!(n > 0.5)) continue;
+    // the longest substep with n (k dt^2 + c dt) <= kStableMassRatio M
+    const double budget = kStableMassRatio * objects[oi].props.mass / n;
+    const double dtMax = (std::sqrt(c * c + 4.0 * k * budget) - c) / (2.0 * k);
+    const double steps = std::ceil(1.0 / (params.frameRate * dtMax) - 1e-9);
+    if (steps > needed) needed = steps >= most ? most : static_cast<int>(steps);
+  }
+  return needed;
+}
+
+void LayeredWorld::Impl::UseSubsteps(int n) {
+  frameSubsteps = n;
+  dt = 1.0 / (params.frameRate * n);
+  const b2MassData md = ParticleMassData();
+  for (ParticleData& p : particles) {
+    for (b2Body* b : p.bodies) b->SetMassData(&md);
+  }
+}
+
 void LayeredWorld::Impl::CreateBodies(ParticleData& p, const Vec2& pos, const Vec2& vel) {
   assert(p.bodies.empty() && "stack already has bodies");
   const int top = p.baseLayer + StackLayers(p);

@@ -192,7 +192,8 @@ struct ParticleData {
 struct LayeredWorld::Impl {
   PhysicsParams params;
   TableParams table;
-  double dt = 0.0;  ///< substep, s
+  double dt = 0.0;        ///< substep, s
+  int frameSubsteps = 1;  ///< substeps of the current frame (StableSubsteps), dt's
   std::vector<std::unique_ptr<Layer>> layers;
   std::vector<ObjectData> objects;
   std::vector<double> particleFriction;  ///< per object, for the listeners
@@ -242,6 +243,17 @@ struct LayeredWorld::Impl {
   /// an object (or it rests on one). A stack gets its bodies when it becomes active and loses
   /// them when it stops being so.
   void UpdateActivity();
+  /// Per object, how many of the particle bodies that pressed its sides in the last frame's last
+  /// substep pressed against each other: their count times the share of their normal force that
+  /// cancels (read before the frame's forces are cleared).
+  std::vector<double> PressingBodies() const;
+  /// The substeps this frame needs: params.substeps, or more (up to max_substeps) where the
+  /// opposing bodies that will press an object (as `pressed`, or those of active stacks whose
+  /// targets lie within their radius of its footprint, whichever are more) weigh more than
+  /// kStableMassRatio times it. After UpdateActivity.
+  int StableSubsteps(const std::vector<double>& pressed) const;
+  /// Makes `n` the substep count: dt, and the particle bodies' mass k dt^2 + c dt.
+  void UseSubsteps(int n);
 
   // coupling.cpp
   /// Gives each object's slices mass M/n, inertia I/n, n = layers predicted to have contacts.

@@ -727,5 +727,67 @@ TEST(Stacks, StackSizeAndCapsuleFillTheirLayers) {
   EXPECT_EQ(c.BodyCount(), slices);
 }
 
+// A light box pressed by many bodies (docs/physics.md, "Substeps that keep a grip stable"): a
+// 3 x 3 cm box of 20 g between two rows of 13 bodies whose targets lie 0.5 cm inside its sides;
+// then 7 more come in under its bottom over half a second, to 0.8 cm inside it. The grip's
+// friction, 0.8 x 26 x k (0.5 + slop) = 600,000 dyn, holds the push, and the box rises until
+// the 26 gripping bodies' tangential springs (k each) meet what the pushers press with there:
+// 26 k y = 7 k (0.8 + slop - y) - T, T the table's static friction, 0 to mu_s M g = 7,850 dyn,
+// so y = 0.167 to 0.171 cm. Each body weighs k dt^2, 4 g at 2 substeps: the 33 bodies weigh
+// 132 g, 6.6 times the box, beyond the 4 at which a grip chatters. The frame takes
+// ceil(1 / (60 s^-1 sqrt(2 x 20 g / (33 k)))) = 4 substeps (33 g of bodies).
+TEST(Substeps, ALightBoxPressedByManyBodiesTakesTheSubstepsThatKeepItStill) {
+  auto run = [](int substeps, int maxSubsteps, int& taken, double& spin) {
+    PhysicsParams p;
+    p.substeps = substeps;
+    p.maxSubsteps = maxSubsteps;
+    ObjectSpec box = Box("light", 30, 23, 3, 3);
+    box.mass = 20;
+    LayeredWorld w;
+    MustBuild(w, p, {box});
+    const double r = p.particleRadius;
+    std::vector<PlannedParticle> ps;
+    for (int i = 0; i < 13; ++i) {
+      const double y = 21.6 + 2.8 * i / 12;
+      ps.push_back(Create(i + 1, Vec2(28.5 - r - 0.3, y), Vec2(28.5 - r + 0.5, y)));
+      ps.push_back(Create(i + 101, Vec2(31.5 + r + 0.3, y), Vec2(31.5 + r - 0.5, y)));
+    }
+    w.ApplyPlan(Plan(ps));
+    for (int f = 0; f < 30; ++f) w.StepFrame();
+    spin = 0.0;
+    for (int f = 0; f < 120; ++f) {
+      // the pusher comes in over half a second, from 0.3 cm short of the face to 0.8 inside it
+      ps.clear();
+      const double in = -0.3 + 1.1 * std::min(f + 1, 30) / 30.0;
+      for (int i = 0; i < 7; ++i) {
+        const Vec2 at(29.1 + 0.3 * i, 21.5 - r + in);
+        ps.push_back(f == 0 ? Create(i + 201, at, at) : Reuse(i + 201, at));
+      }
+      w.ApplyPlan(Plan(ps));
+      w.StepFrame();
+      if (f >= 30) spin = std::max(spin, std::abs(w.Object(0).angularVelocity));
+    }
+    taken = w.FrameSubsteps();
+    return w.Object(0).pose.pos - Vec2(30, 23);
+  };
+  int taken = 0;
+  double spin = 0.0;
+  // max_substeps at its default, 4: a coarser setting is raised to it where a grip needs it
+  for (int substeps : {2, 4, 8}) {
+    const Vec2 moved = run(substeps, PhysicsParams().maxSubsteps, taken, spin);
+    EXPECT_EQ(taken, std::max(substeps, 4));
+    // 0.167 to 0.171 cm; 0.005 cm for float rounding and the solver's residue
+    EXPECT_NEAR(moved.y(), 0.169, 0.002 + 0.005) << substeps << " substeps";
+    EXPECT_NEAR(moved.x(), 0.0, 0.005) << substeps << " substeps";
+    // and it stays still (under 2 degrees/s)
+    EXPECT_LT(spin, DegToRad(2.0)) << substeps << " substeps";
+  }
+  // held to 2 substeps, the bodies weigh 6.6 times the box: the grip chatters and lets it go on
+  const Vec2 chattering = run(2, 2, taken, spin);
+  EXPECT_EQ(taken, 2);
+  EXPECT_GT(chattering.y(), 0.169 + 0.1);
+  EXPECT_GT(spin, DegToRad(20.0));
+}
+
 }  // namespace
 }  // namespace pg

@@ -99,6 +99,9 @@ class LayeredWorld : public SceneQuery {
   int BodyCount() const;
   /// Frames stepped since Build.
   int64_t Frame() const;
+  /// Substeps the last frame took: `substeps`, or more when a light object was pressed by many
+  /// bodies (docs/physics.md, "Substeps that keep a grip stable").
+  int FrameSubsteps() const;
   /// Inputs that were skipped: plan entries naming unknown or duplicate particles or holding
   /// non-finite positions, and pushes on unknown objects or with non-finite values.
   int PlanErrors() const;

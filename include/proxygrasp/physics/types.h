@@ -15,7 +15,10 @@ namespace pg {
 /// Parameters of the layered simulation. Section [physics] of a level.
 struct PhysicsParams {
   double frameRate = 60.0;          ///< camera frames per second, Hz
-  int substeps = 4;                 ///< physics substeps per frame
+  int substeps = 4;                 ///< physics substeps per frame (the least)
+  int maxSubsteps = 4;              ///< most substeps a frame takes to keep a light object that
+                                    ///< many opposing bodies press stable (at most `substeps`: no
+                                    ///< more)
   int velocityIterations = 8;       ///< Box2D velocity iterations per substep
   int positionIterations = 3;       ///< Box2D position iterations per substep
   int threads = 1;                  ///< threads stepping layer worlds concurrently
