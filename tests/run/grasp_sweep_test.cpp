@@ -107,6 +107,31 @@ GraspScene OpposedBoxScene(double depth, double radius) {
   return s;
 }
 
+// makes `s` a bang-bang carry of `distance` cm at a peak of `speed` cm/s along `direction`,
+// starting from `at` after the grip has settled, with the scene's timeline
+void SetCarry(GraspScene& s, const Vec2& direction, double distance, double speed, const Vec2& at) {
+  s.motion = GraspMotion::kCarry;
+  s.direction = direction;
+  s.distance = distance;
+  s.speed = speed;
+  s.object.pose.pos = at;
+  s.moveStart = 0.9;
+  s.moveEnd = s.moveStart + 2.0 * s.distance / s.speed;
+  s.duration = s.moveEnd + 0.7;
+}
+
+// Two fingertips (R 0.8 cm, contours 0.4 cm inside) on the x faces of a 4 cm box of 300 g
+// (mu_s 0.5, mu_k 0.3, mu_p 0.11), carried 10 cm at 5 cm/s, 20 degrees off the grip's axis.
+GraspScene ObliqueCarryScene() {
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.object.mass = 300.0;
+  s.object.tableKinetic = 0.3;
+  s.object.particleFriction = 0.11;
+  const double angle = DegToRad(20.0);
+  SetCarry(s, Vec2(std::cos(angle), std::sin(angle)), 10.0, 5.0, Vec2(24.0, 20.0));
+  return s;
+}
+
 TEST(GraspRule, AFingertipOnAFlatFacePressesWithTheGripModelSummedOverItsContour) {
   const PhysicsParams physics;
   const double spacing = 0.3;
@@ -168,8 +193,7 @@ double FlatFacePressingPoints(const PhysicsParams& physics, double spacing, doub
 }
 
 TEST(GraspRule, AnObliqueCarryBreaksLooseOnceTheGripsForceReachesStaticFrictionInAnyDirection) {
-  // Two fingertips (R 0.8 cm, contours 0.4 cm inside) on the x faces of a 4 cm box of 300 g
-  // (mu_s 0.5, mu_k 0.3, mu_p 0.11), carried 20 degrees off the grip's axis. The table's static
+  // ObliqueCarryScene: a 300 g box carried 20 degrees off its grip's axis. The table's static
   // friction is a circle: the box breaks loose once the grip's force reaches mu_s W in any
   // direction. While it is stuck the grip moves on: the box lags l along the axis, where the
   // leading side presses k min(d, d_max) deeper and the trailing side less, F_par(l) = F(0.4 + l) -
@@ -178,16 +202,9 @@ TEST(GraspRule, AnObliqueCarryBreaksLooseOnceTheGripsForceReachesStaticFrictionI
   // below 0.5 cm for every l <= d_max (tan 20 = 0.36), so no slip limit applies. Then it slides:
   // mu_k W + M a along the carry, the axis part from the leading side's push, the rest from
   // friction, as for a carry across the grip.
-  PhysicsParams physics;
-  GraspScene s = OpposedBoxScene(0.4, 0.8);
-  s.object.mass = 300.0;
-  s.object.tableKinetic = 0.3;
-  s.object.particleFriction = 0.11;
-  s.motion = GraspMotion::kCarry;
+  const PhysicsParams physics;
+  const GraspScene s = ObliqueCarryScene();
   const double angle = DegToRad(20.0);
-  s.direction = Vec2(std::cos(angle), std::sin(angle));
-  s.distance = 10.0;
-  s.speed = 5.0;
   const GraspPrediction p = PredictGrasp(s, physics, 0.3);
 
   const double k = physics.gripStiffness, muP = 0.11, w = 300.0 * physics.gravity;
@@ -347,14 +364,7 @@ TEST(GraspSweep, ScenesAreReproducibleValidLevelsAndMostlyHoldable) {
 TEST(GraspSweep, AFirmGripCarriesAHeavyBoxAndASlipperyOneIsLeftBehind) {
   const PhysicsParams physics;
   GraspScene s = OpposedBoxScene(0.5, 0.8);
-  s.motion = GraspMotion::kCarry;
-  s.direction = Vec2(0.0, 1.0);
-  s.distance = 8.0;
-  s.speed = 10.0;
-  s.object.pose.pos = Vec2(30.5, 19.0);
-  s.moveStart = 0.9;
-  s.moveEnd = s.moveStart + 2.0 * s.distance / s.speed;
-  s.duration = s.moveEnd + 0.7;
+  SetCarry(s, Vec2(0.0, 1.0), 8.0, 10.0, Vec2(30.5, 19.0));
   // mu_p 0.8: margin well above 1.2
   const GraspPrediction firm = PredictGrasp(s, physics, 0.3);
   ASSERT_GT(firm.margin, 1.2);
@@ -379,18 +389,7 @@ TEST(GraspSweep, AnObliqueCarryTheGripCanOnlyBreakLooseAsAWholeIsCarried) {
   // grip's force as a whole reaches mu_s W while the box lags a fraction of a centimetre, and
   // sliding needs only mu_k W + M a. The rule says it can hold: it must follow within 1 cm.
   const PhysicsParams physics;
-  GraspScene s = OpposedBoxScene(0.4, 0.8);
-  s.object.mass = 300.0;
-  s.object.tableKinetic = 0.3;
-  s.object.particleFriction = 0.11;
-  s.motion = GraspMotion::kCarry;
-  s.direction = Vec2(std::cos(DegToRad(20.0)), std::sin(DegToRad(20.0)));
-  s.distance = 10.0;
-  s.speed = 5.0;
-  s.object.pose.pos = Vec2(24.0, 20.0);
-  s.moveStart = 0.9;
-  s.moveEnd = s.moveStart + 2.0 * s.distance / s.speed;
-  s.duration = s.moveEnd + 0.7;
+  const GraspScene s = ObliqueCarryScene();
   ASSERT_GT(PredictGrasp(s, physics, 0.3).margin, 1.2);
   Result<GraspOutcome> run = RunGraspScene(s, 4);
   ASSERT_TRUE(run.ok()) << run.error().Format();
