@@ -466,21 +466,32 @@ void LayeredWorld::Impl::UpdateSpin() {
     double dot = 0.0;
   };
   std::unordered_map<ContactId, Sums> sums;
+  // a contact's particles mostly follow each other in creation order: look its sums up once per
+  // run of them (the same sums, added in the same order)
+  ContactId last = kNoId;
+  Sums* run = nullptr;
+  auto sumsOf = [&](ContactId contact) -> Sums& {
+    if (run == nullptr || contact != last) {
+      run = &sums[contact];
+      last = contact;
+    }
+    return *run;
+  };
   for (const ParticleData& p : particles) {
-    Sums& s = sums[p.contact];
+    Sums& s = sumsOf(p.contact);
     s.from += p.prevTarget;
     s.to += p.target;
     ++s.count;
   }
   for (const ParticleData& p : particles) {
-    Sums& s = sums[p.contact];
+    Sums& s = sumsOf(p.contact);
     const Vec2 a = p.prevTarget - s.from / s.count;
     const Vec2 b = p.target - s.to / s.count;
     s.cross += a.x() * b.y() - a.y() * b.x();
     s.dot += a.dot(b);
   }
   for (ParticleData& p : particles) {
-    const Sums& s = sums[p.contact];
+    const Sums& s = sumsOf(p.contact);
     // fewer than three points, or a contour turned by more than a right angle in one frame,
     // shows no turn that a surface could have
     p.spin = s.count >= 3 && s.dot > 0.0 ? std::atan2(s.cross, s.dot) * params.frameRate : 0.0;
