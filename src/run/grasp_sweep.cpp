@@ -454,8 +454,11 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
     return FingertipForce(o, physics, spacing, f.pos - shift, f.radius, f.inward);
   };
   // the same with the object lagging from its rest shift: the bodies stay where they met it
-  auto laggedForce = [&](const GraspFinger& f, const Vec2& rest, const Vec2& shift) {
-    return FingertipForce(o, physics, spacing, f.pos - rest, f.pos - shift, f.radius, f.inward);
+  // (`pressing`: how many of them press)
+  auto laggedForce = [&](const GraspFinger& f, const Vec2& rest, const Vec2& shift,
+                         double* pressing = nullptr) {
+    return FingertipForce(o, physics, spacing, f.pos - rest, f.pos - shift, f.radius, f.inward,
+                          pressing);
   };
 
   // the grip at rest: opposed sides balance where the object settles between them
@@ -529,9 +532,7 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
         double normalSum = 0.0, bodies = 0.0;
         for (const GraspFinger& f : s.fingers) {
           double pressing = 0.0;
-          const Vec2 force =
-              FingertipForce(o, physics, spacing, f.pos - shift, f.pos - (shift - lead * l),
-                             f.radius, f.inward, &pressing);
+          const Vec2 force = laggedForce(f, shift, shift - lead * l, &pressing);
           sum += force;
           normalSum += force.norm();
           bodies += pressing;

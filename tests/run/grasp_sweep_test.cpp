@@ -18,38 +18,39 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// A fingertip against a flat face, integrated along its outline (arc length, not samples): what
-// the phase-averaged sum over contour samples must approach.
-double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double radius, double depth) {
-  const double k = physics.gripStiffness, r = physics.particleRadius;
-  constexpr int kSteps = 200000;
-  double sum = 0.0;
-  for (int i = 0; i < kSteps; ++i) {
-    const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
-    // the contour point at theta from the inward direction lies this deep past the face
-    const double d = depth - radius * (1.0 - std::cos(theta));
-    if (d + r > 0.0) sum += k * std::min(d + r, physics.gripMaxDepth);
-  }
-  const double points = std::lround(2.0 * kPi * radius / spacing);
-  return sum / kSteps * points;
-}
-
-// k times term(d, y) summed over the same fingertip's points that press and are not saturated,
-// d = how far a point's target lies beyond its body's centre, y = R sin(theta) along the face;
-// integrated like FlatFaceIntegral.
+// term(d, y) summed along a fingertip's outline (arc length, not samples) over the points that
+// press a flat face `depth` inside their contour: d = how far a point's target lies beyond its
+// body's centre (> 0), y = R sin(theta) along the face. Scaled to the contour's point count, it
+// is what the phase-averaged sum over contour samples must approach.
 template <typename Term>
-double UnsaturatedIntegral(const PhysicsParams& physics, double spacing, double radius,
-                           double depth, Term term) {
-  const double k = physics.gripStiffness, r = physics.particleRadius;
+double OutlineIntegral(const PhysicsParams& physics, double spacing, double radius, double depth,
+                       Term term) {
+  const double r = physics.particleRadius;
   constexpr int kSteps = 200000;
   double sum = 0.0;
   for (int i = 0; i < kSteps; ++i) {
     const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
     const double d = depth - radius * (1.0 - std::cos(theta)) + r;
-    if (d > 0.0 && d < physics.gripMaxDepth) sum += k * term(d, radius * std::sin(theta));
+    if (d > 0.0) sum += term(d, radius * std::sin(theta));
   }
   const double points = std::lround(2.0 * kPi * radius / spacing);
   return sum / kSteps * points;
+}
+
+// A fingertip's normal force on a flat face: k min(d, d_max) per pressing point.
+double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double radius, double depth) {
+  return OutlineIntegral(physics, spacing, radius, depth, [&](double d, double) {
+    return physics.gripStiffness * std::min(d, physics.gripMaxDepth);
+  });
+}
+
+// k times term(d, y) over the same fingertip's points that press and are not saturated.
+template <typename Term>
+double UnsaturatedIntegral(const PhysicsParams& physics, double spacing, double radius,
+                           double depth, Term term) {
+  return OutlineIntegral(physics, spacing, radius, depth, [&](double d, double y) {
+    return d < physics.gripMaxDepth ? physics.gripStiffness * term(d, y) : 0.0;
+  });
 }
 
 // The couple per radian of the same fingertip against a face turning about the foot of the
@@ -179,17 +180,10 @@ TEST(GraspRule, ACarryAcrossAnOpposedGripNeedsTableFrictionAndInertiaAgainstFric
   EXPECT_EQ(p.canHold, p.margin >= 1.0);
 }
 
-// How many of a fingertip's contour points press (d + r > 0) against a flat face, integrated
-// along its outline like FlatFaceIntegral.
+// How many of a fingertip's contour points press a flat face.
 double FlatFacePressingPoints(const PhysicsParams& physics, double spacing, double radius,
                               double depth) {
-  constexpr int kSteps = 200000;
-  int pressing = 0;
-  for (int i = 0; i < kSteps; ++i) {
-    const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
-    if (depth - radius * (1.0 - std::cos(theta)) + physics.particleRadius > 0.0) ++pressing;
-  }
-  return static_cast<double>(pressing) / kSteps * std::lround(2.0 * kPi * radius / spacing);
+  return OutlineIntegral(physics, spacing, radius, depth, [](double, double) { return 1.0; });
 }
 
 TEST(GraspRule, AnObliqueCarryBreaksLooseOnceTheGripsForceReachesStaticFrictionInAnyDirection) {
