@@ -216,6 +216,71 @@ std::optional<double> FaceDepth(const Edge& face, const Vec2& q, double r) {
   return r - (q - face.start).dot(face.normal);
 }
 
+// What a body on its way in meets on a convex polygon: it comes in along `inward` on the line
+// through its target at rest and meets a face, or rounds a corner (within its radius r of a
+// vertex). It then presses that face along its inward normal, or that corner along the line from
+// where it stopped to the vertex.
+struct Meeting {
+  bool corner = false;
+  Edge face;                   // the face it met
+  Vec2 vertex = Vec2::Zero();  // the corner it met
+  Vec2 stop = Vec2::Zero();    // its centre where it met the corner
+  Vec2 push = Vec2::Zero();    // unit, into the polygon, at the corner
+};
+
+std::optional<Meeting> MeetPolygon(const Contour& polygon, const Vec2& rest, const Vec2& inward,
+                                   double r) {
+  const int n = static_cast<int>(polygon.cols());
+  // from far out on the line: origin o, moving along +inward
+  double far = rest.norm() + r + 1.0;
+  for (int i = 0; i < n; ++i) far = std::max(far, rest.norm() + polygon.col(i).norm() + r + 1.0);
+  const Vec2 o = rest - far * inward;
+  double first = kInfinity;
+  Meeting met;
+  for (int i = 0; i < n; ++i) {
+    const Vec2 a = polygon.col(i), e = Vec2(polygon.col((i + 1) % n)) - a;
+    const Edge face{a, e.normalized(), e.norm(), Vec2(e.y(), -e.x()).normalized()};
+    const double towards = inward.dot(face.normal);
+    if (towards > -1e-12) continue;  // it moves along or away from this face
+    const double t = (r - (o - a).dot(face.normal)) / towards;
+    const double at = (o + t * inward - a).dot(face.dir);
+    if (at < 0.0 || at > face.length || t >= first) continue;
+    first = t;
+    met = Meeting{};
+    met.face = face;
+  }
+  for (int i = 0; i < n; ++i) {
+    const Vec2 v = polygon.col(i), w = o - v;
+    const double b = w.dot(inward), disc = b * b - (w.squaredNorm() - r * r);
+    if (disc < 0.0) continue;
+    const double t = -b - std::sqrt(disc);
+    if (t >= first) continue;
+    first = t;
+    met = Meeting{};
+    met.corner = true;
+    met.vertex = v;
+    met.stop = o + t * inward;
+    met.push = (v - met.stop) / r;
+  }
+  if (first == kInfinity) return std::nullopt;
+  return met;
+}
+
+// how far a body whose target is now q presses what it met (see FaceDepth), and where on the
+// polygon it presses; nothing when it has slid off its face's ends
+std::optional<double> MeetingDepth(const Meeting& met, const Vec2& q, double r, Vec2* push,
+                                   Vec2* at) {
+  if (met.corner) {
+    *push = met.push;
+    *at = met.vertex;
+    return (q - met.stop).dot(met.push);
+  }
+  const std::optional<double> d = FaceDepth(met.face, q, r);
+  *push = -met.face.normal;
+  *at = q - (q - met.face.start).dot(met.face.normal) * met.face.normal;
+  return d;
+}
+
 }  // namespace
 
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
@@ -229,8 +294,6 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
   const CrossSection slice = Slice0(object, physics);
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
-  // the face the fingertip presses: for a polygon the edge whose outward normal opposes `inward`
-  const Edge face = slice.circle ? Edge{} : FacingEdge(slice, -inward);
   Vec2 total = Vec2::Zero();
   int bodies = 0;
   ForEachContourSample(radius, spacing, [&](const Vec2& along) {
@@ -252,10 +315,14 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
       push = -stop / reach;
       d = (q - stop).dot(push);
     } else {
-      const std::optional<double> depth = FaceDepth(face, q, r);
+      // the face it met on its way in (the one `inward` faces, or beyond that face's ends the
+      // next face or the corner between them), followed with its target
+      const std::optional<Meeting> met = MeetPolygon(slice.outline, restCenter + along, inward, r);
+      if (!met) return;
+      Vec2 at;
+      const std::optional<double> depth = MeetingDepth(*met, q, r, &push, &at);
       if (!depth) return;
       d = *depth;
-      push = -face.normal;
     }
     if (d > 0.0) {
       total += push * (k * std::min(d, dMax));
@@ -272,17 +339,19 @@ double NormalForceTorque(const ObjectSpec& object, const PhysicsParams& physics,
   if (slice.circle) return 0.0;  // a round slice's normals all pass through its centre
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
-  const Edge face = FacingEdge(slice, -inward);
   const double c = std::cos(turn), s = std::sin(turn);
   double torque = 0.0;
   ForEachContourSample(radius, spacing, [&](const Vec2& along) {
     const Vec2 rest = center + along;
     const Vec2 q(c * rest.x() - s * rest.y(), s * rest.x() + c * rest.y());
-    const std::optional<double> d = FaceDepth(face, q, r);
+    // the body follows its target along the face it met (or stays on the corner it met) and
+    // presses along that face's inward normal (or towards the corner)
+    const std::optional<Meeting> met = MeetPolygon(slice.outline, rest, inward, r);
+    if (!met) return;
+    Vec2 push, at;
+    const std::optional<double> d = MeetingDepth(*met, q, r, &push, &at);
     if (!d || *d <= 0.0) return;
-    // the body follows its target along the face and presses along the face's inward normal
-    const Vec2 at = q - (q - face.start).dot(face.normal) * face.normal;
-    torque += Cross(at, -face.normal * (k * std::min(*d, dMax)));
+    torque += Cross(at, push * (k * std::min(*d, dMax)));
   });
   return torque / kSamplePhases;
 }

@@ -150,6 +150,33 @@ TEST(GraspRule, AFingertipOnAFlatFacePressesWithTheGripModelSummedOverItsContour
   }
 }
 
+TEST(GraspRule, AFingertipBeyondAFacesEndPressesTheFaceBesideIt) {
+  // A hexagon (circumradius 2, a face normal along +x): a fingertip coming in along -x above the
+  // end of the +x face meets the slanted face beside it, from (1.732, 1) to (0, 2), outward normal
+  // n = (1/2, sqrt(3)/2). Pressed 0.2 cm into it at its middle (1.5 high), its pressing points lie
+  // between 1.3 and 1.7 high: their lines along -x cross that face's offset, clear of the circles
+  // of radius r = 0.25 about its corners (below 1.25 and above 1.75). So it presses as on any flat
+  // face, along -n: the integral along its outline within 1%, as above, and nothing across.
+  const PhysicsParams physics;
+  const double spacing = 0.2, radius = 0.4, depth = 0.2;
+  ObjectSpec hexagon;
+  hexagon.name = "object";
+  hexagon.shape = ObjectShape::kConvexPrism;
+  for (int i = 0; i < 6; ++i) {
+    const double a = kPi / 6 + kPi / 3 * i;
+    hexagon.points.emplace_back(2.0 * std::cos(a), 2.0 * std::sin(a));
+  }
+  hexagon.height = 2.0;
+  hexagon.mass = 100.0;
+  const Vec2 n(0.5, std::sqrt(3.0) / 2);
+  const Vec2 middle(std::sqrt(3.0) / 2, 1.5);
+  const Vec2 f = FingertipForce(hexagon, physics, spacing, middle + (radius - depth) * n, radius,
+                                Vec2(-1.0, 0.0));
+  const double expected = FlatFaceIntegral(physics, spacing, radius, depth);
+  EXPECT_NEAR(-f.dot(n), expected, 0.01 * expected);
+  EXPECT_NEAR(f.dot(Vec2(-n.y(), n.x())), 0.0, 1e-6 * expected);
+}
+
 TEST(GraspRule, AFingertipPressesNothingClearOfTheFaceAndAtMostKDmaxPerPoint) {
   const PhysicsParams physics;
   const ObjectSpec box = Box(6.0, 6.0, 100.0);

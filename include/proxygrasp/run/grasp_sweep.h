@@ -89,9 +89,12 @@ GraspScene GenerateGraspScene(uint64_t seed, int index);
 /// (object frame) pressing the object's layer-0 slice, by the grip model: each contour point
 /// within the particle radius of the slice presses with k min(d + r, d_max) along the face's
 /// inward normal, d its depth; averaged over where the contour's samples (every `spacing`) fall.
-/// For a polygon the face is the one `inward` meets; points beyond its ends press nothing. On a
-/// round slice a body stops where its circle meets the slice's as it comes in along `inward`,
-/// and presses along the normal there by its target's depth along it.
+/// On a polygon each body presses what it meets as it comes in along `inward`: the face `inward`
+/// faces, or beyond that face's ends the face beside it or the corner between them (a corner
+/// along the line from where the body stopped to the vertex); a body whose target has slid off
+/// the ends of the face it met presses nothing. On a round slice a body stops where its circle
+/// meets the slice's as it comes in along `inward`, and presses along the normal there by its
+/// target's depth along it.
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& center, double radius, const Vec2& inward);
 /// The same for a fingertip that came in to `restCenter` and then moved to `center` relative to
@@ -102,9 +105,10 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
                     const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
                     double* pressing = nullptr);
 /// The torque, dyn cm about the object's origin (counter-clockwise positive), of the normal
-/// forces of one fingertip's bodies on the flat face it presses, with the fingertip (contour
-/// centre `center`, object frame) turned by `turn` radians about the origin: each body follows
-/// its target along the face and presses with k min(d, d_max) along the face's inward normal.
+/// forces of one fingertip's bodies on the flat faces and corners they met (as in
+/// FingertipForce), with the fingertip (contour centre `center`, object frame) turned by `turn`
+/// radians about the origin: each body follows its target along its face (or stays on its
+/// corner) and presses with k min(d, d_max) along the face's inward normal (towards the corner).
 /// Turned by epsilon against the object, a pad shifts along the face by about its distance from
 /// the origin times epsilon, and its bodies at y along the face press k y epsilon deeper. 0 on a
 /// round slice, whose normals pass through its centre.
