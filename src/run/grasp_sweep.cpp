@@ -333,10 +333,10 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
   return total / kSamplePhases;
 }
 
-double NormalForceTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
-                         const Vec2& center, double radius, const Vec2& inward, double turn) {
+double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                      const Vec2& center, double radius, const Vec2& inward, double turn,
+                      double friction) {
   const CrossSection slice = Slice0(object, physics);
-  if (slice.circle) return 0.0;  // a round slice's normals all pass through its centre
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
   const double c = std::cos(turn), s = std::sin(turn);
@@ -344,14 +344,54 @@ double NormalForceTorque(const ObjectSpec& object, const PhysicsParams& physics,
   ForEachContourSample(radius, spacing, [&](const Vec2& along) {
     const Vec2 rest = center + along;
     const Vec2 q(c * rest.x() - s * rest.y(), s * rest.x() + c * rest.y());
-    // the body follows its target along the face it met (or stays on the corner it met) and
-    // presses along that face's inward normal (or towards the corner)
-    const std::optional<Meeting> met = MeetPolygon(slice.outline, rest, inward, r);
-    if (!met) return;
-    Vec2 push, at;
-    const std::optional<double> d = MeetingDepth(*met, q, r, &push, &at);
-    if (!d || *d <= 0.0) return;
-    torque += Cross(at, push * (k * std::min(*d, dMax)));
+    // where the body stopped as it came in (its centre), the normal it presses along, the point
+    // of the object it presses and its depth, all with the grip at rest
+    Vec2 stop, push, at;
+    double depth;
+    std::optional<Meeting> met;
+    if (slice.circle) {
+      const double reach = slice.radius + r;
+      const double ae = rest.dot(inward);
+      const double disc = ae * ae - rest.squaredNorm() + reach * reach;
+      if (disc < 0.0) return;
+      const double t = ae + std::sqrt(disc);
+      if (t < 0.0) return;
+      stop = rest - t * inward;
+      push = -stop / reach;
+      at = stop * (slice.radius / reach);
+      depth = (rest - stop).dot(push);
+    } else {
+      met = MeetPolygon(slice.outline, rest, inward, r);
+      if (!met) return;
+      const std::optional<double> d = MeetingDepth(*met, rest, r, &push, &at);
+      if (!d) return;
+      depth = *d;
+      stop = met->corner ? met->stop : Vec2(at - r * push);
+    }
+    if (depth <= 0.0) return;
+    const double normal = k * std::min(depth, dMax);
+    // along the surface the body is a spring k towards its target until its friction slides;
+    // at rest it has slid until its pull is within the limit (on a round slice the targets lie
+    // off the bodies' normals and pull them sideways), and the turn adds to that pull
+    const Vec2 tangent(-push.y(), push.x());
+    const double limit = friction * normal;
+    const double held = std::clamp(k * (rest - stop).dot(tangent), -limit, limit);
+    const double pull = held + k * (q - rest).dot(tangent);
+    const bool slides = std::abs(pull) > limit;
+    torque += Cross(at, tangent) * std::clamp(pull, -limit, limit);
+    // its normal force, by its target's depth now: a body that slides follows its target along
+    // its face (or stays on its corner); one that sticks presses where it met the object
+    double d;
+    if (slice.circle) {
+      d = (q - stop).dot(push);
+    } else {
+      Vec2 pushNow, atNow;
+      const std::optional<double> now = MeetingDepth(*met, q, r, &pushNow, &atNow);
+      if (!now) return;
+      d = *now;
+      if (slides) at = atNow;
+    }
+    if (d > 0.0) torque += Cross(at, push * (k * std::min(d, dMax)));
   });
   return torque / kSamplePhases;
 }
@@ -641,20 +681,18 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
     const double rEff = EffectiveFrictionRadius(o, mass.centroid);
     p.requirement = std::max(o.tableStatic * weight * rEff,
                              o.tableKinetic * weight * rEff + mass.inertia * alpha);
-    // each fingertip's friction acts along its face, at the face's distance from the centre
-    const CrossSection slice = Slice0(o, physics);
     const double turnSign = s.turn >= 0.0 ? 1.0 : -1.0;
-    for (size_t i = 0; i < s.fingers.size(); ++i) {
-      const GraspFinger& f = s.fingers[i];
-      p.capacity += muP * normal[i] * ReachAlong(slice, -f.inward);
-      // the normal forces on flat faces, once the object lags the turn by the angle that still
-      // counts as following: in its frame the fingertip has turned on by that angle about its
-      // centre, so its pad presses further along the face (and deeper at one end)
+    // What the grip gives once the object lags the turn by the angle that still counts as
+    // following (sixth revision): in the object's frame each fingertip has turned on by that
+    // angle about its centre. Each body pulls along the surface as a spring until its friction
+    // slides, from the pull it already had at rest, and presses by its target's new depth (a body
+    // that slides follows its target along its face).
+    for (const GraspFinger& f : s.fingers) {
       const Vec2 at = f.pos - shift;
       p.capacity +=
-          turnSign *
-          (NormalForceTorque(o, physics, spacing, at, f.radius, f.inward, turnSign * kFollowAngle) -
-           NormalForceTorque(o, physics, spacing, at, f.radius, f.inward, 0.0));
+          turnSign * (GripTurnTorque(o, physics, spacing, at, f.radius, f.inward,
+                                     turnSign * kFollowAngle, muP) -
+                      GripTurnTorque(o, physics, spacing, at, f.radius, f.inward, 0.0, muP));
     }
     p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
   } else {

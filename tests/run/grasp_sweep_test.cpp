@@ -44,30 +44,6 @@ double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double rad
   });
 }
 
-// k times term(d, y) over the same fingertip's points that press and are not saturated.
-template <typename Term>
-double UnsaturatedIntegral(const PhysicsParams& physics, double spacing, double radius,
-                           double depth, Term term) {
-  return OutlineIntegral(physics, spacing, radius, depth, [&](double d, double y) {
-    return d < physics.gripMaxDepth ? physics.gripStiffness * term(d, y) : 0.0;
-  });
-}
-
-// The couple per radian of the same fingertip against a face turning about the foot of the
-// perpendicular through the fingertip's centre: k y^2 over the unsaturated points.
-double FlatFaceCoupleIntegral(const PhysicsParams& physics, double spacing, double radius,
-                              double depth) {
-  return UnsaturatedIntegral(physics, spacing, radius, depth,
-                             [](double, double y) { return y * y; });
-}
-
-// k d^2 over the same points.
-double FlatFaceSquareIntegral(const PhysicsParams& physics, double spacing, double radius,
-                              double depth) {
-  return UnsaturatedIntegral(physics, spacing, radius, depth,
-                             [](double d, double) { return d * d; });
-}
-
 ObjectSpec Box(double sizeX, double sizeY, double mass) {
   ObjectSpec o;
   o.name = "object";
@@ -268,26 +244,40 @@ TEST(GraspRule, ATurnNeedsTableFrictionOverTheBaseAndInertiaAgainstFingertipFric
   const double alpha = s.turnRate * s.turnRate / s.turn;
   const double w = 100.0 * physics.gravity;
   EXPECT_NEAR(p.requirement, std::max(0.5 * w * rEff, 0.4 * w * rEff + mass.inertia * alpha), 1e-6);
-  // Friction along each face at the face's distance, 2 cm, from the centre, and the torque of
-  // each fingertip's normal forces once the object lags by the 5 degrees that still count as
-  // following. A fingertip turned by epsilon about the centre: a target at (x, y) (x along the
-  // face's normal from the centre, y along the face; the face at h = 2) goes to
-  // (x - y eps, y + x eps), lies d + y eps deep and presses at y + x eps along the face, so the
-  // torque k d y grows by eps sum k (y^2 + d x), x = h + r - d: eps (k sum y^2 + N_f (h + r) -
-  // k sum d^2). The pad's shift along the face (the N_f (h + r) term) is most of it. 5% for the
-  // terms of second order in eps (the targets' x (1 - cos eps) = 0.01 cm of depth, 2.5% of the
-  // mean) and the samples against the integrals.
-  const double eps = DegToRad(5.0), h = 2.0;
-  const double nf = FlatFaceIntegral(physics, 0.3, 0.8, 0.4);
-  const double couple = FlatFaceCoupleIntegral(physics, 0.3, 0.8, 0.4) +
-                        nf * (h + physics.particleRadius) -
-                        FlatFaceSquareIntegral(physics, 0.3, 0.8, 0.4);
-  const double expected = 0.8 * p.normalForce * 2.0 + 2.0 * eps * couple;
-  EXPECT_NEAR(p.capacity, expected, 0.05 * expected);
-  // a round slice's normals pass through its centre
-  EXPECT_EQ(NormalForceTorque(Cylinder(2.0, 100.0), physics, 0.3, Vec2(2.4, 0.0), 0.8,
-                              Vec2(-1.0, 0.0), eps),
-            0.0);
+  // What the two fingertips give once the object lags by the 5 degrees that still count as
+  // following (sixth revision). A fingertip turned by epsilon about the centre: a target at
+  // (x, y) (x along the face's normal from the centre, x = h + r - d for a body whose target lies
+  // d beyond its centre; y along the face; the face at h = 2) goes to (x - y eps, y + x eps).
+  // Along the face its body is a spring pulled k x eps, which friction holds up to mu k
+  // min(d, d_max), at lever h. A body that holds presses k y eps deeper where it is: k y^2 eps;
+  // one that slides follows its target along the face, which adds the shift of its normal force,
+  // k d x eps (saturated bodies only that). 5% for the terms of second order in eps (the
+  // targets' x (1 - cos eps) = 0.01 cm of depth, 2.5% of the mean) and the samples against the
+  // integral.
+  const double eps = DegToRad(5.0), h = 2.0, mu = 0.8;
+  const double k = physics.gripStiffness, dMax = physics.gripMaxDepth, r = physics.particleRadius;
+  const double perFingertip = OutlineIntegral(physics, 0.3, 0.8, 0.4, [&](double d, double y) {
+    const double x = h + r - d, normal = k * std::min(d, dMax), pull = k * x * eps;
+    const bool slides = pull > mu * normal;
+    double torque = h * std::min(pull, mu * normal);
+    if (d < dMax) {
+      torque += k * eps * (y * y + (slides ? d * x : 0.0));
+    } else if (slides) {
+      torque += normal * x * eps;
+    }
+    return torque;
+  });
+  EXPECT_NEAR(p.capacity, 2.0 * perFingertip, 0.05 * 2.0 * perFingertip);
+  // On a round slice the normals pass through the centre and only friction turns it: a
+  // fingertip centred on the axis holds no torque at rest (its bodies' sideways pulls cancel),
+  // and turned on, at most mu N R.
+  const ObjectSpec cylinder = Cylinder(2.0, 100.0);
+  const Vec2 on(2.4, 0.0), in(-1.0, 0.0);
+  const double n = FingertipForce(cylinder, physics, 0.3, on, 0.8, in).norm();
+  EXPECT_NEAR(GripTurnTorque(cylinder, physics, 0.3, on, 0.8, in, 0.0, mu), 0.0, 1e-6 * n);
+  const double turned = GripTurnTorque(cylinder, physics, 0.3, on, 0.8, in, eps, mu);
+  EXPECT_GT(turned, 0.0);
+  EXPECT_LE(turned, mu * n * 2.0 * (1.0 + 1e-9));
 }
 
 TEST(GraspRule, AFingertipPushedPastTheCentreOfASmallerRoundSliceStillPushesForward) {

@@ -104,16 +104,17 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
                     double* pressing = nullptr);
-/// The torque, dyn cm about the object's origin (counter-clockwise positive), of the normal
-/// forces of one fingertip's bodies on the flat faces and corners they met (as in
-/// FingertipForce), with the fingertip (contour centre `center`, object frame) turned by `turn`
-/// radians about the origin: each body follows its target along its face (or stays on its
-/// corner) and presses with k min(d, d_max) along the face's inward normal (towards the corner).
-/// Turned by epsilon against the object, a pad shifts along the face by about its distance from
-/// the origin times epsilon, and its bodies at y along the face press k y epsilon deeper. 0 on a
-/// round slice, whose normals pass through its centre.
-double NormalForceTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
-                         const Vec2& center, double radius, const Vec2& inward, double turn);
+/// The torque, dyn cm about the object's origin (counter-clockwise positive), that one
+/// fingertip's bodies give an object they grip when the fingertip (contour centre `center`,
+/// object frame) has turned by `turn` radians about the origin relative to it. Each body stays
+/// where it met the object (as in FingertipForce) and is a spring k towards its target: along
+/// the surface it pulls until its friction, `friction` times its normal force, slides; across it
+/// presses by its target's depth. A body that slides follows its target along its face. At
+/// turn 0 it is the torque the grip holds at rest (the sideways pulls of bodies on a round
+/// slice, whose targets lie off their normals).
+double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                      const Vec2& center, double radius, const Vec2& inward, double turn,
+                      double friction);
 
 /// The rule, evaluated at the parameters' grip stiffness, depth limit, particle radius and the
 /// contour spacing.
