@@ -625,8 +625,27 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
       // side pushes; across it friction holds, on the normal force of both sides, which the push
       // shifts from one side to the other without reducing it until the trailing side lets go.
       const double along = sliding * cosE, across = sliding * sinE;
+      // On a round slice (seventh revision) the normals tilt as the object moves across the
+      // axis, by its move over the reach rho (slice radius plus r): the normal force N pushes it
+      // on across by N / rho per cm, while friction holds it through the springs of the n
+      // pressing bodies, k n per cm. Friction F stretches them F / (k n), so the tilt takes
+      // F dbar / rho of it back (dbar = N / (k n), their mean depth): across, the grip holds
+      // F (1 - dbar / rho). (Two fingertips pinching a ball deep slid it out sideways and spun
+      // it: seeds 38 to 43 had 17 such carries the rule said could hold.)
+      const CrossSection grip0 = Slice0(o, physics);
+      double bodiesAtRest = 0.0;
+      for (const GraspFinger& f : s.fingers) {
+        double pressing = 0.0;
+        laggedForce(f, shift, shift, &pressing);
+        bodiesAtRest += pressing;
+      }
+      const double tilt = grip0.circle && bodiesAtRest > 0.0
+                              ? p.normalForce / (physics.gripStiffness * bodiesAtRest) /
+                                    (grip0.radius + physics.particleRadius)
+                              : 0.0;
+      const double keep = std::max(0.0, 1.0 - tilt);
       const double slideMargin =
-          std::min(across > 0 ? muP * std::max(p.normalForce, along) / across : kInfinity,
+          std::min(across > 0 ? muP * std::max(p.normalForce, along) * keep / across : kInfinity,
                    along > 0 ? push / along : kInfinity);
       // Breaking loose: the table's static friction gives way to a force of mu_s W in any
       // direction. While the object is stuck the grip moves on along u; it lags l along the axis
@@ -649,7 +668,8 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
         // how far across the bodies' springs stretch before their friction slides, cm
         elastic = bodies > 0.0 ? muP * normalSum / (k * bodies) : 0.0;
         const double held =
-            std::min(k * bodies * std::min(acrossLag, elastic + kBreakLooseSlip), muP * normalSum);
+            std::min(k * bodies * std::min(acrossLag, elastic + kBreakLooseSlip), muP * normalSum) *
+            keep;
         return std::hypot(std::max(sum.dot(lead), 0.0), held);
       };
       constexpr int kLags = 32;

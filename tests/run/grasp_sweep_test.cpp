@@ -183,6 +183,38 @@ TEST(GraspRule, ACarryAcrossAnOpposedGripNeedsTableFrictionAndInertiaAgainstFric
   EXPECT_EQ(p.canHold, p.margin >= 1.0);
 }
 
+TEST(GraspRule, ACarryAcrossAPinchedRoundSliceLosesWhatTheTiltingNormalsTakeBack) {
+  // The same grip on a cylinder of radius 2 (its axis where the box's centre was), carried across
+  // the grip's axis. Moved across by delta, the object tilts every normal by delta / rho
+  // (rho = 2 + r, the bodies' centres' circle): the normal force N pushes it on across by
+  // N delta / rho, while the n pressing bodies' springs hold it back by k n delta. With friction
+  // F stretching the springs F / (k n), the grip holds F (1 - dbar / rho) across, dbar = N / (k n)
+  // the bodies' mean depth. Friction saturates at mu_p N (the springs stretch mu_p dbar, well
+  // within the 0.5 cm of slip the rule allows), so margin = mu_p N (1 - dbar / rho) / R.
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.object = Cylinder(2.0, 100.0);
+  s.object.tableStatic = 0.5;
+  s.object.tableKinetic = 0.4;
+  s.object.particleFriction = 0.8;
+  s.object.pose.pos = Vec2(30.5, 23.0);
+  s.motion = GraspMotion::kCarry;
+  s.direction = Vec2(0.0, 1.0);
+  s.distance = 10.0;
+  s.speed = 20.0;
+  const GraspPrediction p = PredictGrasp(s, physics, 0.3);
+  double bodies = 0.0;
+  for (const GraspFinger& f : s.fingers) {
+    double pressing = 0.0;
+    FingertipForce(s.object, physics, 0.3, f.pos, f.pos, f.radius, f.inward, &pressing);
+    bodies += pressing;
+  }
+  const double dbar = p.normalForce / (physics.gripStiffness * bodies);
+  const double rho = 2.0 + physics.particleRadius;
+  EXPECT_GT(dbar, 0.1);  // the pinch is deep enough for the tilt to matter
+  EXPECT_NEAR(p.margin, 0.8 * p.normalForce * (1.0 - dbar / rho) / p.requirement, 1e-9 * p.margin);
+}
+
 // How many of a fingertip's contour points press a flat face.
 double FlatFacePressingPoints(const PhysicsParams& physics, double spacing, double radius,
                               double depth) {
