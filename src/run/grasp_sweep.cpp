@@ -216,6 +216,19 @@ std::optional<double> FaceDepth(const Edge& face, const Vec2& q, double r) {
   return r - (q - face.start).dot(face.normal);
 }
 
+// Where a body on its way in stops on a round slice of radius R: it comes in along `inward` on
+// the line through its target at rest, and its centre stops on the circle of radius R + r where
+// the line enters it. Nothing when the line misses the slice or the target lies short of it.
+std::optional<Vec2> MeetCircle(double sliceRadius, const Vec2& rest, const Vec2& inward, double r) {
+  const double reach = sliceRadius + r;
+  const double ae = rest.dot(inward);
+  const double disc = ae * ae - rest.squaredNorm() + reach * reach;
+  if (disc < 0.0) return std::nullopt;  // its path misses the slice
+  const double t = ae + std::sqrt(disc);
+  if (t < 0.0) return std::nullopt;  // its target lies short of the slice
+  return Vec2(rest - t * inward);
+}
+
 // What a body on its way in meets on a convex polygon: it comes in along `inward` on the line
 // through its target at rest and meets a face, or rounds a corner (within its radius r of a
 // vertex). It then presses that face along its inward normal, or that corner along the line from
@@ -232,8 +245,9 @@ std::optional<Meeting> MeetPolygon(const Contour& polygon, const Vec2& rest, con
                                    double r) {
   const int n = static_cast<int>(polygon.cols());
   // from far out on the line: origin o, moving along +inward
-  double far = rest.norm() + r + 1.0;
-  for (int i = 0; i < n; ++i) far = std::max(far, rest.norm() + polygon.col(i).norm() + r + 1.0);
+  double far = 0.0;
+  for (int i = 0; i < n; ++i) far = std::max(far, polygon.col(i).norm());
+  far = rest.norm() + far + r + 1.0;
   const Vec2 o = rest - far * inward;
   double first = kInfinity;
   Meeting met;
@@ -304,16 +318,10 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
       // The body came in along `inward` with its target (at rest) and stopped where its circle
       // met the slice's: its centre on the circle of radius R + r, at the line's entry. It
       // presses along the normal there, by its target's depth along that normal.
-      const Vec2 rest = restCenter + along;
-      const double reach = slice.radius + r;
-      const double ae = rest.dot(inward);
-      const double disc = ae * ae - rest.squaredNorm() + reach * reach;
-      if (disc < 0.0) return;  // its path misses the slice
-      const double t = ae + std::sqrt(disc);
-      if (t < 0.0) return;  // its target lies short of the slice
-      const Vec2 stop = rest - t * inward;
-      push = -stop / reach;
-      d = (q - stop).dot(push);
+      const std::optional<Vec2> stop = MeetCircle(slice.radius, restCenter + along, inward, r);
+      if (!stop) return;
+      push = -*stop / (slice.radius + r);
+      d = (q - *stop).dot(push);
     } else {
       // the face it met on its way in (the one `inward` faces, or beyond that face's ends the
       // next face or the corner between them), followed with its target
@@ -351,12 +359,9 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
     std::optional<Meeting> met;
     if (slice.circle) {
       const double reach = slice.radius + r;
-      const double ae = rest.dot(inward);
-      const double disc = ae * ae - rest.squaredNorm() + reach * reach;
-      if (disc < 0.0) return;
-      const double t = ae + std::sqrt(disc);
-      if (t < 0.0) return;
-      stop = rest - t * inward;
+      const std::optional<Vec2> met = MeetCircle(slice.radius, rest, inward, r);
+      if (!met) return;
+      stop = *met;
       push = -stop / reach;
       at = stop * (slice.radius / reach);
       depth = (rest - stop).dot(push);
@@ -586,10 +591,12 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
     }
     shift = axis * (0.5 * (lo + hi));
   }
-  std::vector<double> normal;
+  // the normal force at rest, and how many bodies press
+  double bodiesAtRest = 0.0;
   for (const GraspFinger& f : s.fingers) {
-    normal.push_back(force(f, shift).norm());
-    p.normalForce += normal.back();
+    double pressing = 0.0;
+    p.normalForce += laggedForce(f, shift, shift, &pressing).norm();
+    bodiesAtRest += pressing;
   }
 
   // what the normal forces of every fingertip, together, can push along u while the object lags
@@ -633,12 +640,6 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
       // F (1 - dbar / rho). (Two fingertips pinching a ball deep slid it out sideways and spun
       // it: seeds 38 to 43 had 17 such carries the rule said could hold.)
       const CrossSection grip0 = Slice0(o, physics);
-      double bodiesAtRest = 0.0;
-      for (const GraspFinger& f : s.fingers) {
-        double pressing = 0.0;
-        laggedForce(f, shift, shift, &pressing);
-        bodiesAtRest += pressing;
-      }
       const double tilt = grip0.circle && bodiesAtRest > 0.0
                               ? p.normalForce / (physics.gripStiffness * bodiesAtRest) /
                                     (grip0.radius + physics.particleRadius)
