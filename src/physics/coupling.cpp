@@ -75,6 +75,7 @@ void LayerListener::PostSolve(b2Contact* contact, const b2ContactImpulse* impuls
   b2Body* particle = (sign > 0 ? contact->GetFixtureA() : contact->GetFixtureB())->GetBody();
   if (const auto* p = reinterpret_cast<const ParticleData*>(particle->GetUserData().pointer)) {
     r.goalSpeed = p->goalVel.dot(r.normalIn);
+    r.padVel = p->padVel;
   }
   records->push_back(r);
 }
@@ -419,7 +420,10 @@ void LayeredWorld::Impl::LimitRelease(int oi, const std::vector<ContactRecord*>&
   // each lambda_i is lowered (never below 0) until the face at its point recedes at most u
   // faster than the goal: (v + w x r_i) . n_i <= g_i + u, projected Gauss-Seidel over the
   // object's pushes, and the contact's friction impulse is brought within mu lambda_i.
-  // docs/physics.md, "Grip".
+  // A face that also slides across the pad faster than u (speed s along t_i, relative to the
+  // finger's surface there) is left behind by it: it may recede at most u (u / s). Without this,
+  // two pads pinching a round slice formed a wedge that squeezed it out sideways at u / sin(phi),
+  // phi the tilt of their normals from the pinch's axis. docs/physics.md, "Grip".
   const ObjectData& o = objects[oi];
   const double u = params.gripReleaseSpeed;
   const double invM = 1.0 / o.props.mass, invI = 1.0 / o.props.inertia;
@@ -430,7 +434,9 @@ void LayeredWorld::Impl::LimitRelease(int oi, const std::vector<ContactRecord*>&
       const Vec2 arm = r->point - o.center;
       const double armN = Cross(arm, r->normalIn);
       const Vec2 v = *vel + Vec2(-arm.y(), arm.x()) * *omega;
-      const double excess = v.dot(r->normalIn) - r->goalSpeed - u;
+      const double slide = (v - r->padVel).dot(r->tangentIn);
+      const double recede = std::abs(slide) > u ? u * u / std::abs(slide) : u;
+      const double excess = v.dot(r->normalIn) - r->goalSpeed - recede;
       if (excess <= 0.0) continue;
       const double take = std::min(r->normalImpulse, excess / (invM + armN * armN * invI));
       r->normalImpulse -= take;

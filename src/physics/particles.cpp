@@ -296,7 +296,7 @@ void LayeredWorld::Impl::FindUnpaired(int layer, const b2Body* body, const Vec2&
 }
 
 void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec2& stop,
-                                        const Vec2& goal, const Vec2& goalVel) {
+                                        const Vec2& goal, const Vec2& goalVel, const Vec2& padVel) {
   // Without this, every body that comes off a surface by more than Box2D's skin (a grip
   // rattling, a turn sliding the bodies along a face) pressed with nothing for a substep while
   // the other side of the grip pushed in full, and a light object shot towards it.
@@ -333,6 +333,7 @@ void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec
   r.points = 1;
   r.point = point;
   r.goalSpeed = goalVel.dot(in);
+  r.padVel = padVel;
   layers[layer]->records.push_back(r);
 }
 
@@ -416,7 +417,8 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       if (!b->IsAwake()) FindUnpaired(p.baseLayer + j, b, x, aim, &unpaired);
       if (!pressing) {
         b2Fixture* surface = StopAtSurface(b, x, &aim, unpaired);
-        if (surface != nullptr) PressOnArrival(p.baseLayer + j, surface, aim, goal, goalVel);
+        if (surface != nullptr)
+          PressOnArrival(p.baseLayer + j, surface, aim, goal, goalVel, p.padVel);
       }
       // continuous collision only when a step could carry the body past a surface: a body moving
       // less than its radius per step, or already pressing on a surface, is held by the ordinary
@@ -480,7 +482,9 @@ void LayeredWorld::Impl::UpdateSpin() {
   // two fingertips turned 10% further than they did). The turn of a contact is the rotation that
   // best carries its particles' previous targets to their targets (least squares about their
   // means); the bodies carry it as angular velocity. They never turn by themselves: their
-  // rotation is fixed, so no contact changes it.
+  // rotation is fixed, so no contact changes it. The same fit gives the velocity of the finger's
+  // surface at each particle (padVel: the contact's mean velocity plus its turn), which, unlike
+  // the goal's own velocity, leaves out the particles' slide along the contour.
   struct Sums {
     Vec2 from = Vec2::Zero();
     Vec2 to = Vec2::Zero();
@@ -518,6 +522,8 @@ void LayeredWorld::Impl::UpdateSpin() {
     // fewer than three points, or a contour turned by more than a right angle in one frame,
     // shows no turn that a surface could have
     p.spin = s.count >= 3 && s.dot > 0.0 ? std::atan2(s.cross, s.dot) * params.frameRate : 0.0;
+    const Vec2 arm = p.target - s.to / s.count;
+    p.padVel = (s.to - s.from) / s.count * params.frameRate + p.spin * Vec2(-arm.y(), arm.x());
   }
 }
 

@@ -58,8 +58,9 @@ struct ContactRecord {
   double tangentImpulse = 0.0;    ///< summed over manifold points, dyn s
   double friction = 0.0;          ///< mu used by the solver
   int points = 0;
-  Vec2 point = Vec2::Zero();  ///< where it acts (the mean of its manifold points), cm
-  double goalSpeed = 0.0;     ///< the pressing body's goal velocity along normalIn, cm/s
+  Vec2 point = Vec2::Zero();   ///< where it acts (the mean of its manifold points), cm
+  double goalSpeed = 0.0;      ///< the pressing body's goal velocity along normalIn, cm/s
+  Vec2 padVel = Vec2::Zero();  ///< the velocity of the finger's surface at the body, cm/s
 };
 
 /// Sets contact friction from object properties and records particle contact impulses. Runs on
@@ -179,6 +180,9 @@ struct ParticleData {
   /// the velocity of its goal this frame, cm/s (its bodies' user data point here while they
   /// are awake, so that the contact records know it)
   Vec2 goalVel = Vec2::Zero();
+  /// the velocity of its contact's surface where it is, cm/s: the contact's rigid motion this
+  /// frame (its mean velocity and spin), without the slide of its particles along the contour
+  Vec2 padVel = Vec2::Zero();
   std::vector<b2Body*> bodies;  ///< layers baseLayer, baseLayer + 1, ...
   /// Per body: a body that touches nothing and moves less than its radius in a substep is left
   /// asleep in its world, out of Box2D's islands, and put on its aim after the step
@@ -279,7 +283,7 @@ struct LayeredWorld::Impl {
   /// until the next one) presses with the grip's force law directly: the force goes to the
   /// object's slice in that layer and into the layer's contact records.
   void PressOnArrival(int layer, b2Fixture* surface, const Vec2& stop, const Vec2& goal,
-                      const Vec2& goalVel);
+                      const Vec2& goalVel, const Vec2& padVel);
   /// Mass of one particle body, k dt^2 + c dt (docs/physics.md, "Grip"), g.
   double ParticleMass() const;
   /// The grip's force law along a contact normal, dyn: k min(depth, d_max) + c goalSpeed, where
