@@ -280,54 +280,6 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
     }
   }
 
-  // each point (resting particle or base point): its lever arm and the object's point mass there
-  auto pointMass = [&](const Vec2& a) {
-    // inverse effective mass of the object at the point: K = 1/M + r_perp r_perp^T / I
-    Eigen::Matrix2d K;
-    K << 1.0 / M + a.y() * a.y() / I, -a.x() * a.y() / I, -a.x() * a.y() / I,
-        1.0 / M + a.x() * a.x() / I;
-    return Eigen::Matrix2d(K.inverse());
-  };
-  std::vector<Vec2> arm(n), particleVel(n);
-  std::vector<Eigen::Matrix2d> mass(n);
-  for (size_t k = 0; k < n; ++k) {
-    arm[k] = BasePosition(particles[onTop[k]]) - center;
-    particleVel[k] = BaseVelocity(particles[onTop[k]]);
-    mass[k] = pointMass(arm[k]);
-  }
-  std::vector<Vec2> tableArm(P);
-  std::vector<Eigen::Matrix2d> tableMass(P);
-  std::vector<double> tableLimit(P);
-  for (size_t k = 0; k < P; ++k) {
-    tableArm[k] = o.ToTableDirection(o.tablePoints[k].arm);
-    tableMass[k] = pointMass(tableArm[k]);
-    tableLimit[k] = tableMu * o.tablePoints[k].weight * normal * dt;
-  }
-  // a point friction impulse towards stopping the surface point at arm a (relative to `target`),
-  // within `limit`. Static: the impulse that stops it, clamped to the limit (projected
-  // Gauss-Seidel). Sliding: where even the limit cannot stop the point, kinetic friction opposes
-  // its slip velocity; the stopping impulse of a point off the centre is not parallel to its slip
-  // (it also undoes the turn), and clamping it would rob a slide of part of mu_k N.
-  double changed = 0.0;  // impulse changed in the current sweep
-  auto applyChange = [&](const Vec2& a, const Vec2& change) {
-    changed += change.norm();
-    r.vel += change / M;
-    r.omega += Cross(a, change) / I;
-  };
-  auto solvePoint = [&](Vec2& impulse, const Vec2& a, const Eigen::Matrix2d& m, const Vec2& target,
-                        double limit, bool sliding) {
-    const Vec2 slip = r.vel + r.omega * Vec2(-a.y(), a.x()) - target;
-    Vec2 total = impulse - m * slip;
-    const double slipSpeed = slip.norm();
-    if (total.norm() > limit) {
-      total =
-          sliding && slipSpeed > 0.0 ? Vec2(-limit / slipSpeed * slip) : ClampNorm(total, limit);
-    }
-    applyChange(a, total - impulse);
-    impulse = total;
-  };
-  const bool tableSlides = kinetic && staticPass->tableSliding;
-
   // With nobody on top the impulse that would stop the object decides at once in most cases: it
   // is held for certain inside the double cone spanned by the pure slide limit mu_s N dt (any
   // direction) and the pure turn limit mu_s N r_eff dt, which the points' convex limit surface
@@ -347,6 +299,56 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
       return r;
     }
   }
+
+  // each point (resting particle or base point): its lever arm and the object's point mass there
+  auto pointMass = [&](const Vec2& a) {
+    // inverse effective mass of the object at the point: K = 1/M + r_perp r_perp^T / I
+    Eigen::Matrix2d K;
+    K << 1.0 / M + a.y() * a.y() / I, -a.x() * a.y() / I, -a.x() * a.y() / I,
+        1.0 / M + a.x() * a.x() / I;
+    return Eigen::Matrix2d(K.inverse());
+  };
+  std::vector<Vec2> arm(n), particleVel(n);
+  std::vector<Eigen::Matrix2d> mass(n);
+  for (size_t k = 0; k < n; ++k) {
+    arm[k] = BasePosition(particles[onTop[k]]) - center;
+    particleVel[k] = BaseVelocity(particles[onTop[k]]);
+    mass[k] = pointMass(arm[k]);
+  }
+  // a sliding table is solved for all its points at once (SolveSlidingTable), without their
+  // point masses
+  const bool tableSlides = kinetic && staticPass->tableSliding;
+  std::vector<Vec2> tableArm(P);
+  std::vector<Eigen::Matrix2d> tableMass(tableSlides ? 0 : P);
+  std::vector<double> tableLimit(P);
+  for (size_t k = 0; k < P; ++k) {
+    tableArm[k] = o.ToTableDirection(o.tablePoints[k].arm);
+    if (!tableSlides) tableMass[k] = pointMass(tableArm[k]);
+    tableLimit[k] = tableMu * o.tablePoints[k].weight * normal * dt;
+  }
+  // a point friction impulse towards stopping the surface point at arm a (relative to `target`),
+  // within `limit`. Static: the impulse that stops it, clamped to the limit (projected
+  // Gauss-Seidel). Sliding: where even the limit cannot stop the point, kinetic friction opposes
+  // its slip velocity; the stopping impulse of a point off the centre is not parallel to its slip
+  // (it also undoes the turn), and clamping it would rob a slide of part of mu_k N.
+  double changed = 0.0;  // impulse changed in the current sweep
+  auto applyChange = [&](const Vec2& a, const Vec2& change) {
+    changed += change.norm();
+    r.vel += change / M;
+    r.omega += Cross(a, change) / I;
+  };
+  auto solvePoint = [&](Vec2& impulse, const Vec2& a, const Eigen::Matrix2d& m, const Vec2& target,
+                        double limit, bool sliding) {
+    const Vec2 slip = r.vel + r.omega * Vec2(-a.y(), a.x()) - target;
+    Vec2 total = impulse - m * slip;
+    if (total.squaredNorm() > limit * limit) {
+      const double slipSpeed = slip.norm();
+      total =
+          sliding && slipSpeed > 0.0 ? Vec2(-limit / slipSpeed * slip) : ClampNorm(total, limit);
+    }
+    applyChange(a, total - impulse);
+    impulse = total;
+  };
 
   double limits = 0.0;
   for (double l : topLimit) limits += l;
@@ -476,6 +478,7 @@ void LayeredWorld::Impl::Couple() {
     Vec2 dv = Vec2::Zero(), corr = Vec2::Zero();
     double dw = 0.0, corrA = 0.0;
     TableImpulse table;
+    bool still = true;  // no slice moved or turned in the step
     for (Slice& s : o.slices) {
       const b2Body* b = s.body;
       // what the slice's table friction joint applied (GetReaction* with inverse step 1)
@@ -483,6 +486,7 @@ void LayeredWorld::Impl::Couple() {
       table.angular += s.table->GetReactionTorque(1.0f);
       const Vec2 v = FromB2(b->GetLinearVelocity());
       const double om = b->GetAngularVelocity();
+      still = still && v == Vec2::Zero() && om == 0.0;
       dv += w * (v - o.velF);
       dw += w * (om - o.omegaF);
       s.touching = HasTouchingContact(s.body);
@@ -490,6 +494,23 @@ void LayeredWorld::Impl::Couple() {
         corr += w * ((FromB2(b->GetWorldCenter()) - o.centerF) - v * dt);
         corrA += w * ((b->GetAngle() - o.angleF) - om * dt);
       }
+    }
+    // An object at rest that nothing touched, pushed, held or rested on in this substep stays
+    // as it is: the friction solve and the write-back below would give it back the same pose and
+    // no motion, bit for bit. Its slices sleep in their worlds until something touches or
+    // pushes one (Box2D wakes a body that a contact starts touching or a force is applied to;
+    // WriteBack wakes the others): a slice at rest has nothing to solve, and its friction joint
+    // holds no impulse.
+    bool touched = false;
+    for (const Slice& s : o.slices) touched = touched || s.touching;
+    if (still && !touched && !o.sliding && onTop[oi].empty() && pushes[oi].empty() &&
+        o.omega == 0.0 && o.vel == Vec2::Zero() && table.angular == 0.0 &&
+        table.linear == Vec2::Zero()) {
+      for (Slice& s : o.slices) s.body->SetAwake(false);
+      o.slideForce.setZero();
+      o.slideTorque = 0.0;
+      o.particlesOnTop = 0;
+      continue;
     }
     Vec2 vel = o.vel + dv;
     double omega = o.omega + dw;
@@ -518,9 +539,7 @@ void LayeredWorld::Impl::Couple() {
     const bool moving = o.sliding || o.vel.squaredNorm() > 0.0 || (o.rEff > 0.0 && o.omega != 0.0);
     FrictionSolve solve =
         SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, table, N, false);
-    bool touching = false;
-    for (const Slice& s : o.slices) touching = touching || s.touching;
-    const bool breakingLoose = !moving && solve.tableSliding && touching;
+    const bool breakingLoose = !moving && solve.tableSliding && touched;
     if (moving) solve.tableSliding = true;
     if (solve.tableSliding || solve.anyTopSliding) {
       solve = SolveFriction(oi, onTop[oi], centerAfterStep, vel, omega, table, N, true, &solve,
@@ -579,6 +598,7 @@ void LayeredWorld::Impl::WriteBack(ObjectData& o) {
   const b2Vec2 v = ToB2(o.vel);
   const float om = static_cast<float>(o.omega);
   for (Slice& s : o.slices) {
+    if (!s.body->IsAwake()) s.body->SetAwake(true);
     s.body->SetTransform(origin, angle);
     s.body->SetLinearVelocity(v);
     s.body->SetAngularVelocity(om);

@@ -247,7 +247,13 @@ b2Fixture* LayeredWorld::Impl::StopAtSurface(b2Body* body, const Vec2& x, Vec2* 
   double lambda = 1.0;
   b2Fixture* hit = nullptr;
   const b2Fixture* particle = body->GetFixtureList();
+  // the box the body sweeps: a fixture whose (fattened) box it misses cannot stop it
+  const double r = params.particleRadius;
+  b2AABB swept;
+  swept.lowerBound = ToB2(Vec2(x.cwiseMin(*aim).array() - r));
+  swept.upperBound = ToB2(Vec2(x.cwiseMax(*aim).array() + r));
   auto cast = [&](b2Fixture* other, int child) {
+    if (!b2TestOverlap(other->GetAABB(child), swept)) return;
     b2ShapeCastInput input;
     input.proxyA.Set(other->GetShape(), child);
     input.proxyB.Set(particle->GetShape(), 0);
@@ -491,6 +497,9 @@ void LayeredWorld::Impl::UpdateSpin() {
     int count = 0;
     double cross = 0.0;
     double dot = 0.0;
+    bool fitted = false;  // spin and velocity below are set
+    double spin = 0.0;
+    Vec2 velocity = Vec2::Zero();
   };
   std::unordered_map<ContactId, Sums> sums;
   // a contact's particles mostly follow each other in creation order: look its sums up once per
@@ -518,12 +527,17 @@ void LayeredWorld::Impl::UpdateSpin() {
     s.dot += a.dot(b);
   }
   for (ParticleData& p : particles) {
-    const Sums& s = sumsOf(p.contact);
-    // fewer than three points, or a contour turned by more than a right angle in one frame,
-    // shows no turn that a surface could have
-    p.spin = s.count >= 3 && s.dot > 0.0 ? std::atan2(s.cross, s.dot) * params.frameRate : 0.0;
+    Sums& s = sumsOf(p.contact);
+    if (!s.fitted) {
+      // fewer than three points, or a contour turned by more than a right angle in one frame,
+      // shows no turn that a surface could have
+      s.spin = s.count >= 3 && s.dot > 0.0 ? std::atan2(s.cross, s.dot) * params.frameRate : 0.0;
+      s.velocity = (s.to - s.from) / s.count * params.frameRate;
+      s.fitted = true;
+    }
+    p.spin = s.spin;
     const Vec2 arm = p.target - s.to / s.count;
-    p.padVel = (s.to - s.from) / s.count * params.frameRate + p.spin * Vec2(-arm.y(), arm.x());
+    p.padVel = s.velocity + p.spin * Vec2(-arm.y(), arm.x());
   }
 }
 
@@ -533,19 +547,25 @@ void LayeredWorld::Impl::UpdateActivity() {
   // target stays farther than that, plus both radii, from every object's bounding circle cannot
   // touch it this frame.
   const double frameTime = 1.0 / params.frameRate;
+  // each object's origin and squared reach, once per frame
+  reaches.resize(objects.size());
+  for (size_t oi = 0; oi < objects.size(); ++oi) {
+    const ObjectData& o = objects[oi];
+    const double travel = (o.vel.norm() + std::abs(o.omega) * o.boundRadius) * frameTime;
+    const double reach = o.boundRadius + params.particleRadius + travel + kActivityMargin;
+    reaches[oi] = {o.pose.pos, reach * reach};
+  }
   for (ParticleData& p : particles) {
     bool active = p.restingOn != kNoObject;
     const Vec2 from = BasePosition(p);
     const Vec2 path = p.target - from;
     const double length2 = path.squaredNorm();
-    for (size_t oi = 0; oi < objects.size() && !active; ++oi) {
-      const ObjectData& o = objects[oi];
-      const double travel = (o.vel.norm() + std::abs(o.omega) * o.boundRadius) * frameTime;
-      const double reach = o.boundRadius + params.particleRadius + travel + kActivityMargin;
+    for (size_t oi = 0; oi < reaches.size() && !active; ++oi) {
+      const Vec2& origin = reaches[oi].first;
       // nearest point of the path to the object's origin
       const double t =
-          length2 > 0.0 ? std::clamp((o.pose.pos - from).dot(path) / length2, 0.0, 1.0) : 0.0;
-      active = (from + t * path - o.pose.pos).squaredNorm() <= reach * reach;
+          length2 > 0.0 ? std::clamp((origin - from).dot(path) / length2, 0.0, 1.0) : 0.0;
+      active = (from + t * path - origin).squaredNorm() <= reaches[oi].second;
     }
     if (active == p.active) continue;
     p.active = active;

@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace pg {
@@ -203,6 +204,8 @@ struct LayeredWorld::Impl {
   std::vector<double> particleFriction;  ///< per object, for the listeners
   std::vector<double> objectFriction;    ///< per object, for the listeners
   std::vector<ParticleData> particles;
+  /// per object: its origin and squared reach this frame (UpdateActivity's scratch)
+  std::vector<std::pair<Vec2, double>> reaches;
   std::unordered_map<ParticleId, int> particleIndex;
   std::unique_ptr<ThreadPool> pool;
   int64_t frame = 0;
