@@ -478,7 +478,8 @@ void LayeredWorld::Impl::Couple() {
     Vec2 dv = Vec2::Zero(), corr = Vec2::Zero();
     double dw = 0.0, corrA = 0.0;
     TableImpulse table;
-    bool still = true;  // no slice moved or turned in the step
+    bool still = true;     // no slice moved or turned in the step
+    bool touched = false;  // a slice has a touching contact
     for (Slice& s : o.slices) {
       const b2Body* b = s.body;
       // what the slice's table friction joint applied (GetReaction* with inverse step 1)
@@ -490,6 +491,7 @@ void LayeredWorld::Impl::Couple() {
       dv += w * (v - o.velF);
       dw += w * (om - o.omegaF);
       s.touching = HasTouchingContact(s.body);
+      touched = touched || s.touching;
       if (s.touching) {
         corr += w * ((FromB2(b->GetWorldCenter()) - o.centerF) - v * dt);
         corrA += w * ((b->GetAngle() - o.angleF) - om * dt);
@@ -501,8 +503,6 @@ void LayeredWorld::Impl::Couple() {
     // pushes one (Box2D wakes a body that a contact starts touching or a force is applied to;
     // WriteBack wakes the others): a slice at rest has nothing to solve, and its friction joint
     // holds no impulse.
-    bool touched = false;
-    for (const Slice& s : o.slices) touched = touched || s.touching;
     if (still && !touched && !o.sliding && onTop[oi].empty() && pushes[oi].empty() &&
         o.omega == 0.0 && o.vel == Vec2::Zero() && table.angular == 0.0 &&
         table.linear == Vec2::Zero()) {

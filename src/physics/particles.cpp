@@ -302,7 +302,7 @@ void LayeredWorld::Impl::FindUnpaired(int layer, const b2Body* body, const Vec2&
 }
 
 void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec2& stop,
-                                        const Vec2& goal, const Vec2& goalVel, const Vec2& padVel) {
+                                        const Vec2& goal, const ParticleData& p) {
   // Without this, every body that comes off a surface by more than Box2D's skin (a grip
   // rattling, a turn sliding the bodies along a face) pressed with nothing for a substep while
   // the other side of the grip pushed in full, and a light object shot towards it.
@@ -327,7 +327,7 @@ void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec
   const Vec2 in = (point - FromB2(output.pointB)) / static_cast<double>(output.distance);
   const double d = (goal - stop).dot(in);
   if (d <= 0.0) return;
-  const double push = GripPush(d, goalVel.dot(in));
+  const double push = GripPush(d, p.goalVel.dot(in));
   if (push <= 0.0) return;
   slice->ApplyForce(ToB2(push * in), ToB2(point), true);
   ContactRecord r;
@@ -338,8 +338,8 @@ void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec
   r.friction = particleFriction[r.object];
   r.points = 1;
   r.point = point;
-  r.goalSpeed = goalVel.dot(in);
-  r.padVel = padVel;
+  r.goalSpeed = p.goalVel.dot(in);
+  r.padVel = p.padVel;
   layers[layer]->records.push_back(r);
 }
 
@@ -423,8 +423,7 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       if (!b->IsAwake()) FindUnpaired(p.baseLayer + j, b, x, aim, &unpaired);
       if (!pressing) {
         b2Fixture* surface = StopAtSurface(b, x, &aim, unpaired);
-        if (surface != nullptr)
-          PressOnArrival(p.baseLayer + j, surface, aim, goal, goalVel, p.padVel);
+        if (surface != nullptr) PressOnArrival(p.baseLayer + j, surface, aim, goal, p);
       }
       // continuous collision only when a step could carry the body past a surface: a body moving
       // less than its radius per step, or already pressing on a surface, is held by the ordinary
@@ -497,9 +496,8 @@ void LayeredWorld::Impl::UpdateSpin() {
     int count = 0;
     double cross = 0.0;
     double dot = 0.0;
-    bool fitted = false;  // spin and velocity below are set
-    double spin = 0.0;
-    Vec2 velocity = Vec2::Zero();
+    double spin = 0.0;             // the fitted turn rate, rad/s
+    Vec2 velocity = Vec2::Zero();  // the fitted mean velocity, cm/s
   };
   std::unordered_map<ContactId, Sums> sums;
   // a contact's particles mostly follow each other in creation order: look its sums up once per
@@ -526,15 +524,14 @@ void LayeredWorld::Impl::UpdateSpin() {
     s.cross += a.x() * b.y() - a.y() * b.x();
     s.dot += a.dot(b);
   }
+  for (auto& [contact, s] : sums) {
+    // fewer than three points, or a contour turned by more than a right angle in one frame,
+    // shows no turn that a surface could have
+    s.spin = s.count >= 3 && s.dot > 0.0 ? std::atan2(s.cross, s.dot) * params.frameRate : 0.0;
+    s.velocity = (s.to - s.from) / s.count * params.frameRate;
+  }
   for (ParticleData& p : particles) {
-    Sums& s = sumsOf(p.contact);
-    if (!s.fitted) {
-      // fewer than three points, or a contour turned by more than a right angle in one frame,
-      // shows no turn that a surface could have
-      s.spin = s.count >= 3 && s.dot > 0.0 ? std::atan2(s.cross, s.dot) * params.frameRate : 0.0;
-      s.velocity = (s.to - s.from) / s.count * params.frameRate;
-      s.fitted = true;
-    }
+    const Sums& s = sumsOf(p.contact);
     p.spin = s.spin;
     const Vec2 arm = p.target - s.to / s.count;
     p.padVel = s.velocity + p.spin * Vec2(-arm.y(), arm.x());

@@ -284,9 +284,10 @@ struct LayeredWorld::Impl {
                     std::vector<b2Fixture*>* unpaired) const;
   /// A body that reaches an object's surface this substep at stop (Box2D has no contact for it
   /// until the next one) presses with the grip's force law directly: the force goes to the
-  /// object's slice in that layer and into the layer's contact records.
+  /// object's slice in that layer and into the layer's contact records, with the goal's and the
+  /// finger surface's velocity of particle p.
   void PressOnArrival(int layer, b2Fixture* surface, const Vec2& stop, const Vec2& goal,
-                      const Vec2& goalVel, const Vec2& padVel);
+                      const ParticleData& p);
   /// Mass of one particle body, k dt^2 + c dt (docs/physics.md, "Grip"), g.
   double ParticleMass() const;
   /// The grip's force law along a contact normal, dyn: k min(depth, d_max) + c goalSpeed, where
