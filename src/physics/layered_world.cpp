@@ -550,6 +550,14 @@ int LayeredWorld::SolvedBodyCount() const {
   return n;
 }
 
+int LayeredWorld::InWorldBodyCount() const {
+  int n = 0;
+  for (const ParticleData& p : m_impl->particles) {
+    for (const b2Body* b : p.bodies) n += b->IsEnabled() ? 1 : 0;
+  }
+  return n;
+}
+
 int LayeredWorld::BodyCount() const {
   int n = 0;
   for (const auto& layer : m_impl->layers) n += layer->world->GetBodyCount() - 1;  // walls

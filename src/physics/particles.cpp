@@ -301,6 +301,21 @@ void LayeredWorld::Impl::FindUnpaired(int layer, const b2Body* body, const Vec2&
   }
 }
 
+bool LayeredWorld::Impl::NearSlices(int layer, const Vec2& x, const Vec2& aim, double extra) const {
+  // the path lies within half its length of its midpoint; every slice lies within the footprint
+  const Vec2 mid = 0.5 * (x + aim);
+  const double half = 0.5 * (aim - x).norm();
+  const double reach = params.particleRadius + b2_aabbExtension + extra + half;
+  for (const ObjectData& o : objects) {
+    if (layer >= static_cast<int>(o.slices.size())) continue;
+    const double within = reach + (o.vel.norm() + std::abs(o.omega) * o.boundRadius) * dt;
+    const double far = o.boundRadius + within;
+    if ((mid - o.pose.pos).squaredNorm() > far * far) continue;
+    if (-FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(mid)) <= within) return true;
+  }
+  return false;
+}
+
 void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec2& stop,
                                         const Vec2& goal, const ParticleData& p) {
   // Without this, every body that comes off a surface by more than Box2D's skin (a grip
@@ -386,6 +401,16 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       const Vec2 x = FromB2(b->GetPosition());
       const Vec2 v = BodyVelocity(p, j);
       Vec2 aim = goal;
+      if (!b->IsEnabled()) {
+        // out of its world (see below): it goes to its aim until an object comes within reach
+        if (!NearSlices(p.baseLayer + j, x, aim, 0.0)) {
+          p.freeVel[j] = (aim - x) / dt;
+          p.freeAim[j] = aim;
+          p.freeNow[j] = 1;
+          continue;
+        }
+        b->SetEnabled(true);  // in again where it is; Box2D pairs it at the step's start
+      }
       // contacts as they are now (Box2D's flags date from the last step's start): a body that
       // overlaps an object presses on it; the others may only reach its surface this substep
       bool pressing = false;
@@ -440,6 +465,11 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
         p.freeAim[j] = aim;
         p.freeNow[j] = 1;
         b->SetBullet(false);
+        // Asleep, it still has a proxy in the layer's broad-phase, and SetTransform moves it out
+        // of its fattened box every substep or two: the tree re-inserts it and the next step
+        // pairs it again with every particle of its contact (filtered out one by one). A body
+        // that no object can reach leaves its world instead, until one can.
+        if (!NearSlices(p.baseLayer + j, x, aim, kOutOfWorldHysteresis)) b->SetEnabled(false);
         continue;
       }
       p.freeNow[j] = 0;

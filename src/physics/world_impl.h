@@ -40,6 +40,9 @@ inline constexpr uint16 kWallBit = 0x4;
 /// (pushes and collisions within the frame), when deciding which particles it can touch, cm:
 /// 1 cm a frame is 60 cm/s gained within one frame at 60 Hz
 inline constexpr double kActivityMargin = 1.0;
+/// how much nearer than the distance that brings a free body back into its world it must be
+/// to stay in it, cm (hysteresis, so that a body at that distance does not go in and out)
+inline constexpr double kOutOfWorldHysteresis = 0.1;
 /// Gauss-Seidel passes over an object's pushes in LimitRelease
 inline constexpr int kReleaseIterations = 4;
 
@@ -282,6 +285,10 @@ struct LayeredWorld::Impl {
   /// with (yet): see ApplyKinematicControl.
   void FindUnpaired(int layer, const b2Body* body, const Vec2& x, const Vec2& aim,
                     std::vector<b2Fixture*>* unpaired) const;
+  /// True when an object with a slice in a layer may come within reach of a body's path from x
+  /// to aim this substep: its footprint (which holds every slice), moved by as much as the object
+  /// travels in a substep, within the body's radius, Box2D's fattening and `extra` cm.
+  bool NearSlices(int layer, const Vec2& x, const Vec2& aim, double extra) const;
   /// A body that reaches an object's surface this substep at stop (Box2D has no contact for it
   /// until the next one) presses with the grip's force law directly: the force goes to the
   /// object's slice in that layer and into the layer's contact records, with the goal's and the

@@ -113,6 +113,9 @@ TEST(KinematicControl, ActiveBodiesThatTouchNothingAreLeftOutOfTheSolver) {
   w.StepFrame();
   EXPECT_EQ(w.ActiveParticleCount(), 1);
   EXPECT_EQ(w.SolvedBodyCount(), 0);
+  // 1 cm off the face: beyond the bodies' reach of 0.25 + 0.1 + 0.1 cm (NearSlices), so they
+  // are out of their worlds
+  EXPECT_EQ(w.InWorldBodyCount(), 0);
   EXPECT_NEAR((w.Particles()[0].pos - w.Particles()[0].target).norm(), 0.0, 1e-4);
   // in: 15 frames of 0.1 cm from 1 cm clear to 0.5 cm inside
   for (int f = 1; f <= 15; ++f) {
@@ -120,6 +123,7 @@ TEST(KinematicControl, ActiveBodiesThatTouchNothingAreLeftOutOfTheSolver) {
     w.StepFrame();
   }
   EXPECT_EQ(w.SolvedBodyCount(), 2);
+  EXPECT_EQ(w.InWorldBodyCount(), 2);
   EXPECT_GT(w.Forces(0).total.normalMagnitude, 0.0);
   // out again: back to 1 cm clear
   for (int f = 14; f >= 0; --f) {
@@ -127,8 +131,38 @@ TEST(KinematicControl, ActiveBodiesThatTouchNothingAreLeftOutOfTheSolver) {
     w.StepFrame();
   }
   EXPECT_EQ(w.SolvedBodyCount(), 0);
+  EXPECT_EQ(w.InWorldBodyCount(), 0);
   EXPECT_EQ(w.Forces(0).total.normalMagnitude, 0.0);
   EXPECT_NEAR((w.Particles()[0].pos - w.Particles()[0].target).norm(), 0.0, 1e-4);
+}
+
+TEST(KinematicControl, FreeBodiesThatNoObjectCanReachLeaveTheirWorldsUntilOneComesNear) {
+  // A 4 x 4 cm box (face at x = 32) launched at 60 cm/s along +x slides v^2 / (2 mu_k g) =
+  // 60^2 / (2 * 0.3 * 981) = 6.1 cm on the table alone, to x = 36.1. A stack of 2 held at
+  // x = 34.5 is 4.5 cm from the box's centre, within its reach in a frame (2.83 + 0.25 + 1 cm of
+  // travel + 1 cm margin = 5.1 cm), so the stack is active from the start. But its bodies are
+  // 2.25 cm off the face: farther than their radius, Box2D's 0.1 cm fattening and the box's
+  // 0.25 cm of travel in a substep, so they leave their worlds. They must be back in before the
+  // box arrives: the box then stops against them, its centre short of 34.5 - 0.25 - 2 = 32.25 cm
+  // once the stack is back on its target (Box2D's slop allowed), instead of sliding through to
+  // 36.1; and pressing, they are in their worlds at the end.
+  PhysicsParams p;
+  p.stackSize = 2;
+  ObjectSpec box = Box("launched", 30, 23);
+  box.velocity = Vec2(60, 0);
+  LayeredWorld w;
+  MustBuild(w, p, {box});
+  w.ApplyPlan(Plan({Create(1, Vec2(34.5, 23), Vec2(34.5, 23))}));
+  w.StepFrame();
+  EXPECT_EQ(w.ActiveParticleCount(), 1);
+  EXPECT_EQ(w.InWorldBodyCount(), 0);
+  for (int f = 0; f < 120; ++f) {
+    w.ApplyPlan(Plan({Reuse(1, Vec2(34.5, 23))}));
+    w.StepFrame();
+  }
+  EXPECT_LT(w.Object(0).centerOfMass.x(), 34.5 - p.particleRadius - 2.0 + kSlop);
+  EXPECT_GT(w.Object(0).centerOfMass.x(), 31.0);  // it did get there
+  EXPECT_EQ(w.InWorldBodyCount(), 2);
 }
 
 TEST(KinematicControl, ABodyPutOnItsAimStopsAtASurfaceItHasNoContactWithYet) {

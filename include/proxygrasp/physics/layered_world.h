@@ -95,6 +95,10 @@ class LayeredWorld : public SceneQuery {
   /// radius. The others touched nothing; they were left asleep in their worlds and put on their
   /// aims directly (docs/physics.md, Particles far from objects).
   int SolvedBodyCount() const;
+  /// Particle bodies in the layers' Box2D worlds (their broad-phase) after the last substep: those
+  /// of active stacks within reach of an object's footprint in their layer. The others left their
+  /// worlds until an object comes within reach (docs/physics.md, Particles far from objects).
+  int InWorldBodyCount() const;
   /// Box2D bodies in all layers: object slices plus particle bodies (walls not counted).
   int BodyCount() const;
   /// Frames stepped since Build.
