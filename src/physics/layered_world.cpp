@@ -670,4 +670,8 @@ void LayeredWorld::SetSubstepObserver(std::function<void(int)> observer) {
   m_impl->observer = std::move(observer);
 }
 
+void LayeredWorld::KeepFreeBodiesInWorlds(bool keep) {
+  m_impl->keepFreeBodies = keep;
+}
+
 }  // namespace pg

@@ -469,7 +469,9 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
         // of its fattened box every substep or two: the tree re-inserts it and the next step
         // pairs it again with every particle of its contact (filtered out one by one). A body
         // that no object can reach leaves its world instead, until one can.
-        if (!NearSlices(p.baseLayer + j, x, aim, kOutOfWorldHysteresis)) b->SetEnabled(false);
+        if (!keepFreeBodies && !NearSlices(p.baseLayer + j, x, aim, kOutOfWorldHysteresis)) {
+          b->SetEnabled(false);
+        }
         continue;
       }
       p.freeNow[j] = 0;

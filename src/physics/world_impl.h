@@ -217,6 +217,7 @@ struct LayeredWorld::Impl {
   std::vector<std::vector<int>> onTop;
   std::function<void(int)> observer;
   std::optional<TimerClock> box2dClock;  ///< times StepLayers when set
+  bool keepFreeBodies = false;           ///< KeepFreeBodiesInWorlds
   double box2dMs = 0.0;                  ///< time in StepLayers during the last frame, ms
 
   int LayerCount() const { return static_cast<int>(layers.size()); }

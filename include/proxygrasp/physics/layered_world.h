@@ -128,6 +128,9 @@ class LayeredWorld : public SceneQuery {
 
   /// Test hook: called after every substep (coupling included) with the substep index.
   void SetSubstepObserver(std::function<void(int)> observer);
+  /// Test hook: with true, free bodies that no object can reach stay asleep in their worlds
+  /// instead of leaving them (the behaviour before they left, for comparison); default false.
+  void KeepFreeBodiesInWorlds(bool keep);
 
   struct Impl;
 
