@@ -308,7 +308,7 @@ bool LayeredWorld::Impl::NearSlices(int layer, const Vec2& x, const Vec2& aim, d
   const double reach = params.particleRadius + b2_aabbExtension + extra + half;
   for (const ObjectData& o : objects) {
     if (layer >= static_cast<int>(o.slices.size())) continue;
-    const double within = reach + (o.vel.norm() + std::abs(o.omega) * o.boundRadius) * dt;
+    const double within = reach + o.FastestPointSpeed() * dt;
     const double far = o.boundRadius + within;
     if ((mid - o.pose.pos).squaredNorm() > far * far) continue;
     if (-FootprintSignedDistance(o.spec, o.footprint, o.ToLocal(mid)) <= within) return true;
@@ -401,12 +401,17 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       const Vec2 x = FromB2(b->GetPosition());
       const Vec2 v = BodyVelocity(p, j);
       Vec2 aim = goal;
+      // a body the step leaves alone goes to its aim after it (PlaceFreeBodies), moving as the
+      // step would have moved it
+      auto leaveOnAim = [&] {
+        p.freeVel[j] = (aim - x) / dt;
+        p.freeAim[j] = aim;
+        p.freeNow[j] = 1;
+      };
       if (!b->IsEnabled()) {
         // out of its world (see below): it goes to its aim until an object comes within reach
         if (!NearSlices(p.baseLayer + j, x, aim, 0.0)) {
-          p.freeVel[j] = (aim - x) / dt;
-          p.freeAim[j] = aim;
-          p.freeNow[j] = 1;
+          leaveOnAim();
           continue;
         }
         b->SetEnabled(true);  // in again where it is; Box2D pairs it at the step's start
@@ -461,9 +466,7 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
         // an object it has no pair with yet stays awake for a substep, so that Box2D's step
         // finds the pair.
         b->SetAwake(false);
-        p.freeVel[j] = (aim - x) / dt;
-        p.freeAim[j] = aim;
-        p.freeNow[j] = 1;
+        leaveOnAim();
         b->SetBullet(false);
         // Asleep, it still has a proxy in the layer's broad-phase, and SetTransform moves it out
         // of its fattened box every substep or two: the tree re-inserts it and the next step
@@ -580,7 +583,7 @@ void LayeredWorld::Impl::UpdateActivity() {
   reaches.resize(objects.size());
   for (size_t oi = 0; oi < objects.size(); ++oi) {
     const ObjectData& o = objects[oi];
-    const double travel = (o.vel.norm() + std::abs(o.omega) * o.boundRadius) * frameTime;
+    const double travel = o.FastestPointSpeed() * frameTime;
     const double reach = o.boundRadius + params.particleRadius + travel + kActivityMargin;
     reaches[oi] = {o.pose.pos, reach * reach};
   }

@@ -11,6 +11,7 @@
 #include <box2d/b2_distance.h>
 #include <box2d/box2d.h>
 
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -158,6 +159,8 @@ struct ObjectData {
   Vec2 ToTableDirection(const Vec2& v) const {
     return Vec2(cosA * v.x() - sinA * v.y(), sinA * v.x() + cosA * v.y());
   }
+  /// The fastest any point of the footprint moves, |v| + |omega| boundRadius, cm/s.
+  double FastestPointSpeed() const { return vel.norm() + std::abs(omega) * boundRadius; }
   /// Quick test that a table point may lie over the footprint (cached pose).
   bool MayHold(const Vec2& p) const {
     return (p - pose.pos).squaredNorm() <= boundRadius * boundRadius;
