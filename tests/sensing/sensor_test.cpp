@@ -133,6 +133,44 @@ ContactShape Circle(Vec2 pos, double radius) {
   return s;
 }
 
+// The sensor's own opening of radius 1 against OpenCV's, bit for bit: binary images (what the
+// sensor opens) and grey ones, at sizes that exercise the 16-pixel blocks, their remainders and
+// the image's edges (one row, one column, narrower than a block).
+TEST(OpenCross3, GivesWhatMorphologyExGives) {
+  cv::RNG rng(20261127);
+  const cv::Size sizes[] = {{640, 480}, {17, 5}, {33, 2},  {1, 9},
+                            {9, 1},     {1, 1},  {16, 16}, {50, 31}};
+  for (const cv::Size& size : sizes) {
+    for (int kind = 0; kind < 3; ++kind) {
+      cv::Mat src(size, CV_8UC1);
+      rng.fill(src, cv::RNG::UNIFORM, 0, 256);
+      // kind 0: grey; 1: sparse binary (specks to remove); 2: dense binary (holes to keep)
+      if (kind == 1) cv::threshold(src, src, 200, 255, cv::THRESH_BINARY);
+      if (kind == 2) cv::threshold(src, src, 40, 255, cv::THRESH_BINARY);
+      cv::Mat expected, scratch;
+      cv::morphologyEx(src, expected, cv::MORPH_OPEN, OpeningKernel(1));
+      cv::Mat got = src.clone();
+      OpenCross3(got, scratch);
+      EXPECT_EQ(cv::countNonZero(got != expected), 0) << size << " kind " << kind;
+
+      // the image 0 outside a few areas (overlapping, at the edges, one beyond the image), as
+      // the sensor's tiled high-pass leaves it, opened in those areas only; scratch left dirty
+      const std::vector<cv::Rect> areas = {
+          cv::Rect(size.width / 4, size.height / 4, size.width / 2 + 1, size.height / 2 + 1),
+          cv::Rect(0, 0, size.width / 3 + 1, size.height / 3 + 1),
+          cv::Rect(size.width / 3, size.height / 5, size.width, size.height / 2 + 1)};
+      cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
+      for (const cv::Rect& a : areas) mask(a & cv::Rect(cv::Point(), size)).setTo(255);
+      cv::Mat sparse = cv::Mat::zeros(size, CV_8UC1);
+      src.copyTo(sparse, mask);
+      cv::morphologyEx(sparse, expected, cv::MORPH_OPEN, OpeningKernel(1));
+      scratch.setTo(255);
+      OpenCross3(sparse, scratch, &areas);
+      EXPECT_EQ(cv::countNonZero(sparse != expected), 0) << size << " kind " << kind << " areas";
+    }
+  }
+}
+
 TEST(Sensor, EmptyTableHasNoPhantoms) {
   // noise, vignetting, gradient and distortion on, for every background strategy and both
   // threshold modes: 20 frames each must hold no contact at all

@@ -138,6 +138,9 @@ class Sensor {
   cv::Mat m_binary;                  // CV_8UC1 0/255
   cv::Mat m_wide;                    // CV_8UC1 scratch: the wide blur of the high-pass
   cv::Mat m_still;                   // CV_8UC1 scratch: where nothing touches
+  cv::Mat m_eroded;                  // CV_8UC1 scratch: the opening's first pass
+  std::vector<cv::Rect> m_areas;     // where the high-pass was worked out (m_areasOnly)
+  bool m_areasOnly = false;          // the filtered image is 0 outside m_areas
   std::vector<uint8_t> m_tileMarks;  // per tile: some pixel there can pass the threshold
   std::vector<int> m_tileStack;      // tiles of a group still to visit
   cv::Mat m_kernel;
@@ -149,6 +152,13 @@ class Sensor {
   // table image maps (built on first request)
   cv::Mat m_tableMapX, m_tableMapY;
 };
+
+/// The opening of radius 1 (SensingParams::morphology = 1, a 3x3 cross), in place: `image` becomes
+/// what cv::morphologyEx(image, out, MORPH_OPEN, OpeningKernel(1)) gives, bit for bit, with
+/// OpenCV's default border (pixels beyond the edge left out). With `areas`, the image must be 0
+/// outside them, and only the areas grown by 2 px are worked (the rest stays 0, as the opening
+/// leaves it). `scratch` holds the eroded image. CV_8UC1.
+void OpenCross3(cv::Mat& image, cv::Mat& scratch, const std::vector<cv::Rect>* areas = nullptr);
 
 /// The structuring element of the clean-up opening of `radius` px (SensingParams::morphology): an
 /// ellipse 2 radius + 1 px across, empty for 0.
