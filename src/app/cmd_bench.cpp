@@ -27,6 +27,7 @@ struct BenchArgs {
   std::string failures;
   int threads = 2;
   bool ruleOnly = false;
+  double holdShare = 0.6;
   std::vector<std::string> sets;
   std::string clock = "cpu";
 };
@@ -70,6 +71,7 @@ int RunGraspCommand(const BenchArgs& args) {
   options.failuresDir = args.failures;
   options.threads = args.threads;
   options.ruleOnly = args.ruleOnly;
+  options.holdShare = args.holdShare;
   options.sets = args.sets;
   options.substeps.clear();
   std::istringstream counts(args.substeps);
@@ -144,6 +146,9 @@ void AddBenchCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--clock", args.clock,
                   "cpu (default): the stepping thread's CPU time; wall: wall time, for "
                   "physics.threads > 1");
+  cmd->add_option("--hold-share", args.holdShare,
+                  "grasp: the most of the scenes the rule may call can-hold (0.5 .. 1, default "
+                  "0.6): later can-hold draws are skipped; 1 keeps every draw");
   cmd->add_flag("--rule-only", args.ruleOnly,
                 "grasp: classify the scenes by the hold rule without running them");
   cmd->callback([&exitCode] { exitCode = RunBenchCommand(args); });

@@ -858,14 +858,30 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
     return MakeError({},
                      "--threads must be at least 1 (got " + std::to_string(options.threads) + ")");
   }
+  if (!(options.holdShare >= 0.5 && options.holdShare <= 1.0)) {
+    std::ostringstream got;
+    got << options.holdShare;
+    return MakeError({}, "--hold-share must be in [0.5, 1] (got " + got.str() + ")");
+  }
   GraspSweepReport report;
   report.options = options;
   LevelParams defaults;
   if (MaybeError e = ApplyOverrides(defaults, options.sets)) return *e;
-  for (int i = 0; i < options.scenes; ++i) {
+  // Draws in order; a can-hold draw is skipped once the kept ones reach the share. Parameters
+  // under which nearly every draw can hold would draw for ever: after kMaxDrawsPerScene draws a
+  // scene, every draw is kept.
+  constexpr int kMaxDrawsPerScene = 20;
+  const int holdQuota = static_cast<int>(std::floor(options.holdShare * options.scenes + 1e-9));
+  int kept = 0, keptHold = 0;
+  for (int i = 0; kept < options.scenes; ++i) {
     GraspSceneResult r;
     r.scene = GenerateGraspScene(options.seed, i);
     r.prediction = PredictGrasp(r.scene, defaults.physics, defaults.sensing.spacing);
+    report.draws = i + 1;
+    const bool hold = r.prediction.canHold && !r.prediction.nearBoundary;
+    if (hold && keptHold >= holdQuota && i < kMaxDrawsPerScene * options.scenes) continue;
+    keptHold += hold ? 1 : 0;
+    ++kept;
     r.outcomes.resize(options.ruleOnly ? 0 : options.substeps.size());
     report.scenes.push_back(std::move(r));
   }
@@ -977,6 +993,11 @@ std::string FormatGraspSweep(const GraspSweepReport& report) {
   t << "grasp sweep: seed " << report.options.seed << ", " << report.scenes.size()
     << " scenes: the rule says " << hold << " can hold, " << slip << " cannot, " << boundary
     << " near the boundary (not scored)\n";
+  if (report.draws > static_cast<int>(report.scenes.size())) {
+    t << "  (" << report.draws << " drawn; can-hold draws beyond "
+      << std::floor(report.options.holdShare * report.options.scenes + 1e-9)
+      << " skipped: --hold-share " << report.options.holdShare << ")\n";
+  }
   for (int m = 0; m < 3; ++m) {
     int counts[3] = {0, 0, 0};
     for (const GraspSceneResult& r : report.scenes) {
@@ -1027,6 +1048,7 @@ std::string GraspSweepJson(const GraspSweepReport& report) {
   std::ostringstream t;
   t << std::setprecision(6);
   t << "{\n  \"seed\": " << report.options.seed << ",\n  \"scenes\": " << report.scenes.size()
+    << ",\n  \"draws\": " << report.draws << ",\n  \"hold_share\": " << report.options.holdShare
     << ",\n  \"rates\": [";
   for (size_t k = 0; k < report.rates.size(); ++k) {
     const GraspRates& r = report.rates[k];

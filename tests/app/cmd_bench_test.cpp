@@ -88,6 +88,9 @@ TEST(BenchCommand, GraspSweepBadValuesExitTwoWithAMessage) {
   r = RunProxygrasp("bench grasp --rule-only --set physics.bogus=1");
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("--set physics.bogus=1"));
+  r = RunProxygrasp("bench grasp --rule-only --hold-share 0.3");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--hold-share must be in [0.5, 1] (got 0.3)"));
   r = RunProxygrasp("bench grasp --rule-only --count 5");
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("5 scenes: the rule says"));

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 
 namespace pg {
@@ -451,6 +452,52 @@ TEST(GraspSweep, BadOptionsAreErrorsNamingThem) {
   o.substeps = {4};
   o.threads = 0;
   EXPECT_THAT(RunGraspSweep(o).error().message, HasSubstr("--threads"));
+  o.threads = 1;
+  for (double share : {0.4, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    o.holdShare = share;
+    ASSERT_FALSE(RunGraspSweep(o).ok()) << share;
+    EXPECT_THAT(RunGraspSweep(o).error().message, HasSubstr("--hold-share")) << share;
+  }
+}
+
+// The hold share: of 100 scenes at most 60 can hold; every draw that cannot hold (or is near the
+// boundary) up to the last one drawn is kept, in order, and so are the first can-hold draws up
+// to the share; a share of 1 keeps every draw, scenes 0 .. 99.
+TEST(GraspSweep, CanHoldScenesAreKeptUpToTheHoldShareAndEveryOtherDrawIsKept) {
+  GraspSweepOptions o;
+  o.scenes = 100;
+  o.ruleOnly = true;
+  o.seed = 7;
+  o.holdShare = 1.0;
+  Result<GraspSweepReport> all = RunGraspSweep(o);
+  ASSERT_TRUE(all.ok());
+  ASSERT_EQ(all.value().scenes.size(), 100u);
+  EXPECT_EQ(all.value().draws, 100);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(all.value().scenes[i].scene.index, i);
+
+  o.holdShare = 0.6;
+  Result<GraspSweepReport> shared = RunGraspSweep(o);
+  ASSERT_TRUE(shared.ok());
+  const GraspSweepReport& r = shared.value();
+  ASSERT_EQ(r.scenes.size(), 100u);
+  int hold = 0, next = 0;
+  const LevelParams defaults;
+  for (const GraspSceneResult& kept : r.scenes) {
+    const bool canHold = kept.prediction.canHold && !kept.prediction.nearBoundary;
+    hold += canHold ? 1 : 0;
+    // the draws skipped before this one were can-hold draws beyond the share
+    for (; next < kept.scene.index; ++next) {
+      const GraspPrediction p = PredictGrasp(GenerateGraspScene(o.seed, next), defaults.physics,
+                                             defaults.sensing.spacing);
+      EXPECT_TRUE(p.canHold && !p.nearBoundary) << "draw " << next << " was skipped";
+    }
+    next = kept.scene.index + 1;
+  }
+  EXPECT_EQ(hold, 60);  // the seed's draws can hold more often than 60%: the share is reached
+  EXPECT_EQ(r.draws, r.scenes.back().scene.index + 1);
+  EXPECT_GT(r.draws, 100);
+  EXPECT_THAT(FormatGraspSweep(r), HasSubstr("can-hold draws beyond 60 skipped"));
+  EXPECT_THAT(GraspSweepJson(r), HasSubstr("\"hold_share\": 0.6"));
 }
 
 TEST(GraspSweep, RuleOnlyClassifiesWithoutRunningAndTheReportSaysSo) {

@@ -138,6 +138,11 @@ struct GraspSweepOptions {
   int threads = 1;          ///< scenes run concurrently
   bool ruleOnly = false;    ///< classify the scenes without running them
   std::vector<std::string> sets;  ///< parameter overrides "section.key=value" for rule and runs
+  /// The most of the scenes the rule may call "can hold" (0.5 .. 1): the sweep draws scenes in
+  /// order from the seed and skips a can-hold draw once that many are kept, so that the scenes
+  /// that cannot hold are enough to measure their rate (docs/physics.md, "The scenes"). 1 keeps
+  /// every draw (scenes 0 .. count - 1, the sweep before 2026-11-27 noon).
+  double holdShare = 0.6;
 };
 
 /// One scene's rule and its outcome at each substep count of the sweep.
@@ -164,12 +169,13 @@ struct GraspRates {
 
 struct GraspSweepReport {
   GraspSweepOptions options;
+  int draws = 0;  ///< scenes drawn to keep options.scenes (the rest were can-hold draws skipped)
   std::vector<GraspSceneResult> scenes;
   std::vector<GraspRates> rates;  ///< one per substep count
 };
 
 /// Generates, classifies and runs the scenes. Bad options are an Error naming them as `proxygrasp
-/// bench grasp` does (--count, --substeps, --threads).
+/// bench grasp` does (--count, --substeps, --threads, --hold-share).
 Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options);
 
 /// The rates per substep count, then the failing and worst scenes.
