@@ -879,7 +879,10 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
     r.prediction = PredictGrasp(r.scene, defaults.physics, defaults.sensing.spacing);
     report.draws = i + 1;
     const bool hold = r.prediction.canHold && !r.prediction.nearBoundary;
-    if (hold && keptHold >= holdQuota && i < kMaxDrawsPerScene * options.scenes) continue;
+    if (hold && keptHold >= holdQuota &&
+        i < static_cast<int64_t>(kMaxDrawsPerScene) * options.scenes) {
+      continue;
+    }
     keptHold += hold ? 1 : 0;
     ++kept;
     r.outcomes.resize(options.ruleOnly ? 0 : options.substeps.size());

@@ -141,7 +141,7 @@ struct GraspSweepOptions {
   /// The most of the scenes the rule may call "can hold" (0.5 .. 1): the sweep draws scenes in
   /// order from the seed and skips a can-hold draw once that many are kept, so that the scenes
   /// that cannot hold are enough to measure their rate (docs/physics.md, "The scenes"). 1 keeps
-  /// every draw (scenes 0 .. count - 1, the sweep before 2026-11-27 noon).
+  /// every draw (scenes 0 .. count - 1, as for seeds 1 to 62 in docs/physics.md).
   double holdShare = 0.6;
 };
 
