@@ -295,6 +295,11 @@ std::optional<double> MeetingDepth(const Meeting& met, const Vec2& q, double r, 
   return d;
 }
 
+// the most can-hold scenes the sweep keeps (GraspSweepOptions::holdShare of the count)
+int HoldQuota(const GraspSweepOptions& options) {
+  return static_cast<int>(std::floor(options.holdShare * options.scenes + 1e-9));
+}
+
 }  // namespace
 
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
@@ -871,7 +876,7 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
   // under which nearly every draw can hold would draw for ever: after kMaxDrawsPerScene draws a
   // scene, every draw is kept.
   constexpr int kMaxDrawsPerScene = 20;
-  const int holdQuota = static_cast<int>(std::floor(options.holdShare * options.scenes + 1e-9));
+  const int holdQuota = HoldQuota(options);
   int kept = 0, keptHold = 0;
   for (int i = 0; kept < options.scenes; ++i) {
     GraspSceneResult r;
@@ -997,8 +1002,7 @@ std::string FormatGraspSweep(const GraspSweepReport& report) {
     << " scenes: the rule says " << hold << " can hold, " << slip << " cannot, " << boundary
     << " near the boundary (not scored)\n";
   if (report.draws > static_cast<int>(report.scenes.size())) {
-    t << "  (" << report.draws << " drawn; can-hold draws beyond "
-      << std::floor(report.options.holdShare * report.options.scenes + 1e-9)
+    t << "  (" << report.draws << " drawn; can-hold draws beyond " << HoldQuota(report.options)
       << " skipped: --hold-share " << report.options.holdShare << ")\n";
   }
   for (int m = 0; m < 3; ++m) {
