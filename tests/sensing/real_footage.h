@@ -16,6 +16,7 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pg::real {
@@ -30,6 +31,7 @@ struct LabelledFrame {
   int index = 0;
   std::vector<Spot> tips;    // r unused
   std::vector<Spot> maybes;  // neither required nor false
+  std::vector<Spot> hands;   // hand contacts other than fingertips: neither required nor false
 };
 
 /// One clip (video or still) and its labelled frames.
@@ -37,7 +39,13 @@ struct LabelledClip {
   std::string path;  // relative to the real data folder
   double cmPerPixel = 0.15;
   std::vector<Spot> hotspots;
+  std::vector<std::pair<int, int>> clear;  // frame ranges [first, last] with nothing on the table
   std::vector<LabelledFrame> frames;
+  bool IsClear(int frame) const {
+    for (const auto& [first, last] : clear)
+      if (frame >= first && frame <= last) return true;
+    return false;
+  }
   bool IsStill() const {
     const std::string ext = std::filesystem::path(path).extension().string();
     return ext == ".jpeg" || ext == ".jpg" || ext == ".png";
@@ -76,6 +84,10 @@ inline std::vector<LabelledClip> ReadLabels(const std::string& file) {
       Spot s;
       words >> s.x >> s.y >> s.r;
       clips.back().hotspots.push_back(s);
+    } else if (key == "clear") {
+      std::pair<int, int> range;
+      words >> range.first >> range.second;
+      clips.back().clear.push_back(range);
     } else if (key == "frame") {
       clips.back().frames.emplace_back();
       words >> clips.back().frames.back().index;
@@ -87,6 +99,10 @@ inline std::vector<LabelledClip> ReadLabels(const std::string& file) {
       Spot s;
       words >> s.x >> s.y >> s.r;
       clips.back().frames.back().maybes.push_back(s);
+    } else if (key == "hand") {
+      Spot s;
+      words >> s.x >> s.y >> s.r;
+      clips.back().frames.back().hands.push_back(s);
     }
   }
   return clips;
@@ -166,7 +182,9 @@ struct Score {
   int tips = 0;        // labelled fingertips
   int found = 0;       // labelled fingertips some contact holds
   int contacts = 0;    // contacts in labelled frames
-  int unmatched = 0;   // contacts that hold no fingertip and lie in no "maybe" circle
+  int unmatched = 0;   // contacts that hold no fingertip and lie in no "maybe" or "hand" circle
+  int offTips = 0;     // contacts that hold no fingertip and lie in no "maybe" circle (hands not
+                       // counted: the figure of the labels before their hand circles)
   std::string misses;  // where, for messages
 };
 
@@ -195,6 +213,9 @@ inline void ScoreFrame(const LabelledClip& clip, const LabelledFrame& labels,
     const Vec2 c = CentroidPixel(b, sensor);
     for (const Spot& m : labels.maybes)
       matched = matched || std::hypot(c.x() - m.x, c.y() - m.y) <= m.r;
+    if (!matched) ++score.offTips;
+    for (const Spot& h : labels.hands)
+      matched = matched || std::hypot(c.x() - h.x, c.y() - h.y) <= h.r;
     if (!matched) {
       ++score.unmatched;
       score.misses += " extra " + clip.path + "@" + std::to_string(labels.index) + "(" +
