@@ -36,6 +36,10 @@ void Describe(SensingParams& p, ParamVisitor& v) {
   v.Real("background_learning", p.backgroundLearning, 0, 3600, "s",
          "time constant with which the background follows the frames where nothing touches "
          "(slow light changes, things left on the table); 0 keeps it fixed");
+  v.Real("touch_learning", p.touchLearning, 0, 36000, "s",
+         "time constant with which the background follows the frames under contacts, so that "
+         "a contact that never changes (a light left on, something bright left on the table) "
+         "fades; a finger held this long loses 63% of its contrast; 0 = never");
   v.Real("smooth", p.smooth, 0, 2, "cm",
          "deviation of the Gaussian blur that removes sensor noise after the background is "
          "subtracted (0 = none)");
@@ -49,11 +53,21 @@ void Describe(SensingParams& p, ParamVisitor& v) {
          "amplification of the high-passed image before the "
          "threshold");
   VisitEnum(v, "threshold_mode", p.thresholdMode, kThresholdModeNames,
-            "fixed threshold, or automatic (Otsu)");
+            "fixed threshold; automatic (Otsu); or adaptive: contrast_fraction of the brightest "
+            "touch of the last contrast_memory seconds, at least noise_factor camera noise "
+            "deviations, at most threshold");
   v.Real("threshold", p.threshold, 1, 254, "grey",
-         "fixed threshold on the filtered (gained) image");
+         "fixed threshold on the filtered (gained) image; in adaptive mode the highest level");
   v.Real("auto_floor", p.autoFloor, 1, 254, "grey",
          "lowest threshold the automatic (Otsu) mode may pick, so an empty table stays empty");
+  v.Real("noise_factor", p.noiseFactor, 1, 50, "1",
+         "adaptive mode: the lowest level, in deviations of the camera noise (measured on the "
+         "frames), so an empty table stays empty");
+  v.Real("contrast_fraction", p.contrastFraction, 0.05, 1, "1",
+         "adaptive mode: the level as a fraction of the brightest touch seen lately (above the "
+         "level), so a dim table's touches are found and a bright table's glows are not");
+  v.Real("contrast_memory", p.contrastMemory, 0.1, 3600, "s",
+         "adaptive mode: time constant with which the brightest touch is forgotten");
   v.Integer("morphology", p.morphology, 0, 8, "px",
             "radius of the opening that removes specks and one-pixel bridges (0 = none)");
   v.Real("min_area", p.minArea, 0, 1000, "cm^2", "smallest contact kept");

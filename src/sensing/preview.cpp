@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace pg {
@@ -60,9 +61,17 @@ cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& 
 
   // then every stage after the camera, in chain order
   std::vector<cv::Mat> tiles{first};
-  for (int k = 1; k < kSensingStageCount; ++k)
-    tiles.push_back(
-        Tile(sensor.StageImage(static_cast<SensingStage>(k)), size, kSensingStageNames[k]));
+  for (int k = 1; k < kSensingStageCount; ++k) {
+    const SensingStage stage = static_cast<SensingStage>(k);
+    std::string label = kSensingStageNames[k];
+    if (stage == SensingStage::kBinary) {
+      // the level the gained image was thresholded at (it adapts: docs/sensing.md, step 7)
+      char level[32];
+      std::snprintf(level, sizeof(level), " (above %.1f)", sensor.LastThreshold());
+      label += level;
+    }
+    tiles.push_back(Tile(sensor.StageImage(stage), size, label));
+  }
   const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
   cv::Mat out = cv::Mat::zeros(size.height * rows, size.width * columns, CV_8UC3);
   for (size_t i = 0; i < tiles.size(); ++i) {

@@ -236,6 +236,13 @@ MaybeError Sensor::Configure(const SensingParams& params, const TableParams& tab
   m_learned.release();
   m_warmup = false;
   m_haveTime = false;
+  m_noise = -1.0;
+  m_level = -1.0;
+  m_noisePhase = 0;
+  m_noiseSum = 0.0;
+  m_noiseTime = 0.0;
+  m_noiseFrames = 0;
+  m_brightest = 0.0;
   m_captureSum.release();
   m_captured = 0;
   m_tableMapX.release();
@@ -259,6 +266,11 @@ MaybeError Sensor::SetParams(const SensingParams& params) {
     m_tableMapX.release();
     m_tableMapY.release();
   }
+  // a threshold mode switched to adaptive starts again from the fixed threshold
+  if (params.thresholdMode != m_params.thresholdMode) {
+    m_level = -1.0;
+    m_brightest = 0.0;
+  }
   m_params = params;
   return std::nullopt;
 }
@@ -276,6 +288,13 @@ MaybeError Sensor::SetBackground(const cv::Mat& background) {
   m_background = background.clone();
   m_learned.release();
   m_warmup = false;
+  m_noise = -1.0;
+  m_level = -1.0;
+  m_noisePhase = 0;
+  m_noiseSum = 0.0;
+  m_noiseTime = 0.0;
+  m_noiseFrames = 0;
+  m_brightest = 0.0;
   m_captureSum.release();
   m_captured = 0;
   return std::nullopt;
@@ -324,12 +343,44 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
     m_warmup = true;
   }
 
+  // The adaptive level: a fraction of the brightest touch the table has shown lately, but at
+  // least noise_factor deviations of the camera noise and at most the fixed threshold. Until the
+  // noise is measured (an estimated background's warm-up), the fixed threshold. The filter works
+  // out where a pixel could pass the level with the brightest touch as remembered; the frame's
+  // own brightest pixel above that level can only raise it.
+  double level = m_params.threshold;
+  const bool adaptive = m_params.thresholdMode == ThresholdMode::kAdaptive && m_noise >= 0.0;
+  double remembered = 0.0, falling = 0.0;
+  if (adaptive) {
+    // It starts at the fixed threshold and comes down by at most a factor e a second: a table
+    // whose touches are bright but not yet seen (they were absorbed by the warm-up and have not
+    // moved) does not show its glows meanwhile.
+    if (m_level < 0.0) {
+      m_level = m_params.threshold;
+      m_brightestTime = time;
+    }
+    const double dt = std::max(0.0, time - m_brightestTime);
+    constexpr double kLevelFall = 1.0;  // s
+    falling = std::min(m_params.threshold, m_level * std::exp(-dt / kLevelFall));
+    remembered = m_brightest * std::exp(-dt / m_params.contrastMemory);
+    level = std::max(falling, AdaptiveLevel(remembered));
+  }
+
   // the whole frame's stages when they are looked at, and where the threshold reads them all
-  Filter(m_wholeStages || wantTableImage || m_params.thresholdMode == ThresholdMode::kAuto);
+  Filter(m_wholeStages || wantTableImage || m_params.thresholdMode == ThresholdMode::kAuto, level);
+
+  if (adaptive) {
+    // A table whose remembered touch already holds the level at the threshold needs no new one
+    // (a brighter touch could only raise it further); it is looked for again once that fades.
+    const bool capped = m_params.contrastFraction * remembered >= m_params.threshold;
+    m_brightest = capped ? remembered : std::max(remembered, BrightestAbove(level));
+    m_brightestTime = time;
+    level = std::max(falling, AdaptiveLevel(m_brightest));
+    m_level = level;
+  }
 
   // threshold, and an opening that removes specks and one-pixel bridges (no closing: holes are
   // ignored anyway, and closing would fill finger crotches and join fingers)
-  double level = m_params.threshold;
   if (m_params.thresholdMode == ThresholdMode::kAuto) {
     cv::Mat scratch;
     level =
@@ -350,7 +401,9 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   }
 
   ExtractBlobs(out.blobs);
+  const double dt = m_haveTime ? time - m_lastTime : 0.0;
   LearnBackground(time);
+  if (m_params.thresholdMode == ThresholdMode::kAdaptive && !WarmingUp()) MeasureNoise(dt);
 
   if (wantTableImage) {
     if (m_tableMapX.empty()) BuildTableMaps();
@@ -367,7 +420,114 @@ double Sensor::PixelsPerCm() const {
   return 1.0 / m_model.CmPerPixel(centre);
 }
 
-void Sensor::Filter(bool whole) {
+double Sensor::AdaptiveLevel(double brightest) const {
+  // An 8-bit camera's noise is never below the rounding of frame and background to whole grey
+  // levels (uniform, variance 1/12 each), even where the measured median is 0 (a noiseless image).
+  const double kRounding = std::sqrt(2.0 / 12.0);
+  const double noise = std::max(m_noise, kRounding);
+  return std::min(m_params.threshold, std::max(m_params.gain * m_params.noiseFactor * noise,
+                                               m_params.contrastFraction * brightest));
+}
+
+bool Sensor::WarmingUp() const {
+  return m_background.empty() ||
+         (m_warmup && m_params.backgroundWarmup > 0.0 &&
+          (m_learned.empty() || m_learnedTime <= m_params.backgroundWarmup));
+}
+
+void Sensor::MeasureNoise(double dt) {
+  // |frame - background| on every 8th column of every 32nd row, the rows shifted by 8 each frame
+  // (1,200 samples of a 640x480 frame; the smoothing below pools the frames): most of a frame is
+  // clear table, so its
+  // median is the noise's (a hand covering less than half the frame moves it little; more makes
+  // the level higher, never lower). For Gaussian noise the median of |d| is 0.6745 sigma. The
+  // differences are whole grey levels: the median is interpolated within its level's bin, a
+  // level k standing for [k - 0.5, k + 0.5) (0 for [0, 0.5)), so that a deviation under one
+  // grey level is still measured.
+  constexpr int kStep = 8, kRowStep = 32;
+  std::array<int, 256> counts{};
+  int n = 0;
+  m_noisePhase = (m_noisePhase + kStep) % kRowStep;
+  for (int y = kStep / 2 + m_noisePhase; y < m_grey.rows; y += kRowStep) {
+    const uint8_t* g = m_grey.ptr<uint8_t>(y);
+    const uint8_t* b = m_background.ptr<uint8_t>(y);
+    for (int x = kStep / 2; x < m_grey.cols; x += kStep) ++counts[std::abs(g[x] - b[x])];
+  }
+  for (const int c : counts) n += c;
+  if (n == 0) return;
+  const double half = 0.5 * n;
+  double below = 0.0, median = 255.0;
+  for (int v = 0; v < 256; ++v) {
+    if (below + counts[v] >= half) {
+      const double start = v == 0 ? 0.0 : v - 0.5, width = v == 0 ? 0.5 : 1.0;
+      median = start + width * (half - below) / counts[v];
+      break;
+    }
+    below += counts[v];
+  }
+  const double sigma = median / 0.6745;
+  // The first second after the background is seeded (or warmed up) is averaged before the level
+  // adapts: a compressed video copies still blocks from frame to frame, so the frames just after
+  // a warm-up share their noise with the background and show less of it. After that, smoothed
+  // over about a second, so the level does not flicker with the frames.
+  constexpr double kNoiseTime = 1.0;  // s
+  if (m_noiseTime < kNoiseTime) {
+    m_noiseSum += sigma;
+    ++m_noiseFrames;
+    m_noiseTime += std::max(0.0, dt);
+    if (m_noiseTime >= kNoiseTime) m_noise = m_noiseSum / m_noiseFrames;
+  } else if (dt > 0.0) {
+    m_noise += (1.0 - std::exp(-dt / kNoiseTime)) * (sigma - m_noise);
+  }
+}
+
+double Sensor::BrightestAbove(double level) const {
+  // The brightest touch: a 3x3 mean near the brightest pixel (one pixel's value adds the noise's
+  // peak), each pixel counted only above `level`. Every pixel above `level` lies
+  // where the filter worked, and has the same value there as in the whole frame; below it, the
+  // whole frame and its worked areas differ (0 outside the areas), so those count as 0. Of equal
+  // pixels the first in raster order (lowest row, then column) is taken, in a whole frame as
+  // over areas.
+  double best = 0.0;
+  cv::Point at(-1, -1);
+  const auto consider = [&](const cv::Rect& r) {
+    double hi = 0.0;
+    cv::Point loc;
+    cv::minMaxLoc(m_normalized(r), nullptr, &hi, nullptr, &loc);
+    loc += r.tl();
+    if (hi > best ||
+        (hi == best && hi > 0.0 && (loc.y < at.y || (loc.y == at.y && loc.x < at.x)))) {
+      best = hi;
+      at = loc;
+    }
+  };
+  if (m_areasOnly) {
+    for (const cv::Rect& r : m_areas) consider(r);
+  } else {
+    consider(cv::Rect(0, 0, m_normalized.cols, m_normalized.rows));
+  }
+  if (!(best > level)) return 0.0;
+  // the highest 3x3 mean centred on that pixel or one of its 8 neighbours: the first of a
+  // flat-topped touch's brightest pixels lies on its rim, and the mean there reads the edge
+  const int rows = m_normalized.rows, cols = m_normalized.cols;
+  const auto value = [&](int x, int y) -> double {
+    if (x < 0 || y < 0 || x >= cols || y >= rows) return 0.0;
+    const uint8_t v = m_normalized.ptr<uint8_t>(y)[x];
+    return v > level ? v : 0.0;
+  };
+  double highest = 0.0;
+  for (int cy = at.y - 1; cy <= at.y + 1; ++cy) {
+    for (int cx = at.x - 1; cx <= at.x + 1; ++cx) {
+      double sum = 0.0;
+      for (int y = cy - 1; y <= cy + 1; ++y)
+        for (int x = cx - 1; x <= cx + 1; ++x) sum += value(x, y);
+      highest = std::max(highest, sum / 9.0);
+    }
+  }
+  return highest;
+}
+
+void Sensor::Filter(bool whole, double level) {
   const double pxPerCm = PixelsPerCm();
   m_areasOnly = false;  // until the high-pass works out only some areas
   // background subtracted: what is brighter than the clear table (darker is clipped to 0)
@@ -405,7 +565,7 @@ void Sensor::Filter(bool whole) {
     if (whole) {
       HighpassOver(cv::Rect(0, 0, size.width, size.height), width);
     } else {
-      HighpassWhereContactsCanBe(width);
+      HighpassWhereContactsCanBe(width, level);
     }
     return;
   }
@@ -434,7 +594,7 @@ void Sensor::HighpassOver(const cv::Rect& rect, int width) {
   }
 }
 
-void Sensor::HighpassWhereContactsCanBe(int width) {
+void Sensor::HighpassWhereContactsCanBe(int width, double level) {
   // The high-pass never adds: highpass = smoothed - min(wide, cap) <= smoothed, and the gain and
   // the threshold are monotonic. So a pixel whose smoothed level s does not pass the threshold
   // once gained (gain s, rounded as convertTo rounds, not above the threshold) passes it after
@@ -448,7 +608,7 @@ void Sensor::HighpassWhereContactsCanBe(int width) {
     levels.convertTo(passing, CV_8UC1, m_params.gain);
   else
     passing = levels;
-  cv::threshold(passing, passing, m_params.threshold, 255, cv::THRESH_BINARY);
+  cv::threshold(passing, passing, level, 255, cv::THRESH_BINARY);
   int lowest = 256;
   for (int v = 0; v < 256; ++v) {
     if (passing.at<uint8_t>(0, v) != 0) {
@@ -546,6 +706,7 @@ void Sensor::LearnBackground(double time) {
   if (!m_bandsStarted) {
     // every band was last learned at the previous frame
     m_bandTime.fill(time - dt);
+    m_touchTime.fill(time - dt);
     m_nextBand = 0;
     m_bandsStarted = true;
   }
@@ -573,6 +734,19 @@ void Sensor::LearnBackground(double time) {
   const double alpha = 1.0 - std::exp(-bandDt / m_params.backgroundLearning);
   cv::Mat learned = m_learned(cv::Range(r0, r1), cols);
   cv::accumulateWeighted(m_grey(cv::Range(r0, r1), cols), learned, alpha, still);
+  const double touchDt = time - m_touchTime[band];
+  if (m_params.touchLearning > 0.0 && touchDt >= 0.01 * m_params.touchLearning) {
+    // Under the contacts too, far more slowly: a contact that never changes (a lamp left on,
+    // something bright left on the table, a drift the background did not follow) would otherwise
+    // keep the background from learning it, and stay for good. A band learned under contacts
+    // once a hundredth of the time constant has passed (3 s at 300 s), at the rate for that
+    // time, follows the same curve as every frame to within a hundredth, for a fraction of the
+    // work.
+    m_touchTime[band] = time;
+    cv::bitwise_not(still, still);
+    cv::accumulateWeighted(m_grey(cv::Range(r0, r1), cols), learned,
+                           1.0 - std::exp(-touchDt / m_params.touchLearning), still);
+  }
   cv::Mat background = m_background(cv::Range(r0, r1), cols);
   learned.convertTo(background, CV_8UC1);
 }

@@ -172,10 +172,15 @@ TEST(OpenCross3, GivesWhatMorphologyExGives) {
 }
 
 TEST(Sensor, EmptyTableHasNoPhantoms) {
-  // noise, vignetting, gradient and distortion on, for every background strategy and both
-  // threshold modes: 20 frames each must hold no contact at all
+  // noise, vignetting, gradient and distortion on, for every background strategy and every
+  // threshold mode: 20 frames each (the adaptive mode 180, 3 s, so that its level has come down
+  // from the threshold to the noise floor: it adapts after the warm-up and a second of noise
+  // measuring, then falls by a factor e a second from 30 to 5 sigma = 16 grey, by 2.9 s) must hold
+  // no contact at all. At 16 grey, 5 deviations of the 3-grey noise, a pixel passes with
+  // probability 3e-7 and a contact needs a cross of 5 such pixels to survive the opening.
   for (int strategy = 0; strategy < 3; ++strategy) {
-    for (ThresholdMode mode : {ThresholdMode::kFixed, ThresholdMode::kAuto}) {
+    for (ThresholdMode mode :
+         {ThresholdMode::kFixed, ThresholdMode::kAuto, ThresholdMode::kAdaptive}) {
       SensingParams sp;
       sp.thresholdMode = mode;
       sp.backgroundFrames = strategy == 1 ? 4 : 0;
@@ -183,7 +188,8 @@ TEST(Sensor, EmptyTableHasNoPhantoms) {
       if (strategy == 2) {
         ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
       }
-      for (int i = 0; i < 20; ++i) {
+      const int frames = mode == ThresholdMode::kAdaptive ? 180 : 20;
+      for (int i = 0; i < frames; ++i) {
         Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render({}), i, i / 60.0);
         ASSERT_TRUE(r) << r.error().Format();
         EXPECT_TRUE(r.value().blobs.empty())
@@ -194,15 +200,88 @@ TEST(Sensor, EmptyTableHasNoPhantoms) {
 }
 
 TEST(Sensor, StrongNoiseAndGradientStillNoPhantoms) {
-  // twice the default noise and gradient, estimated background: 10 sigma below the threshold
-  SyntheticCameraParams p = HardCamera(5);
-  p.noise = 6.0;
-  p.gradient = 24.0;
-  Rig rig(p);
-  for (int i = 0; i < 10; ++i) {
-    Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render({}), i, 0.0);
-    ASSERT_TRUE(r);
-    EXPECT_TRUE(r.value().blobs.empty()) << "frame " << i;
+  // twice the default noise and gradient, estimated background: 5 sigma below the threshold of 30
+  // (the fixed mode; and the adaptive mode once adapted, whose noise floor is then 5 sigma =
+  // 30 grey too), over 3 s of frames
+  for (ThresholdMode mode : {ThresholdMode::kFixed, ThresholdMode::kAdaptive}) {
+    SyntheticCameraParams p = HardCamera(5);
+    p.noise = 6.0;
+    p.gradient = 24.0;
+    SensingParams sp;
+    sp.thresholdMode = mode;
+    Rig rig(p, sp);
+    for (int i = 0; i < 180; ++i) {
+      Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render({}), i, i / 60.0);
+      ASSERT_TRUE(r);
+      EXPECT_TRUE(r.value().blobs.empty()) << "mode " << static_cast<int>(mode) << " frame " << i;
+    }
+  }
+}
+
+// The adaptive level on a dim table like t2.avi's: touches 10 grey above a table whose camera
+// noise is 0.7 grey (the fixed threshold of 30 sees none of them).
+//  - Noise floor: frame and background are whole grey levels, so the noise the sensor sees is
+//    sqrt(0.7^2 + 1/12 + 1/12) = 0.81 grey (each rounding is uniform, variance 1/12; the
+//    calibrated background is noiseless). The median of |frame - background| over a clear table
+//    (the touches cover under 1% of the frame) is 0.6745 of that; read on whole-grey differences,
+//    interpolating linearly within the bin [0.5, 1.5) where the density in fact falls, it comes
+//    out at 0.5 + (0.5 - 0.463) / 0.473 = 0.578, so sigma reads 0.86: 5 sigma = 4.3 +- 0.5 grey
+//    (the sample, the touches).
+//  - Brightest touch: a 10-grey disc less the high-pass's mean over its 4 cm blur (a 1.6 cm disc
+//    is (0.8 / 2)^2 = 16% of it) is 8.4 grey, its 3x3 mean within a grey of that (noise, 8-bit
+//    truncation); 0.3 x 8.4 = 2.5 grey, under the noise floor.
+//  - So once adapted (the warm-up needs none with a calibrated background; a second of noise
+//    measuring, then the fall from 30 by a factor e a second reaches 4 by 1 + ln(30 / 4) = 3.0 s)
+//    the level is 4.3 +- 0.5 grey, at least 3.6 grey (4 sigma) below the touches' 8.4, and every
+//    touch is found within the synthetic camera's 1 px (0.1 cm); the clear frames between hold
+//    no contact.
+// The same table's touches at full contrast (180 grey) hold the level at the threshold from the
+// first frame the level adapts: 0.3 x 180 = 54 > 30.
+TEST(Sensor, AdaptiveLevelFindsADimTablesTouchesAndKeepsTheThresholdOnABrightOne) {
+  const ContactShape touches[] = {Circle({15.0, 15.0}, 0.8), Circle({30.0, 25.0}, 0.8),
+                                  Circle({45.0, 15.0}, 0.8)};
+  for (int seed : {3, 11}) {
+    SyntheticCameraParams dim;
+    dim.noise = 0.7;
+    dim.contactLevel = dim.background + 10.0;
+    dim.haloLevel = 0.0;
+    dim.seed = seed;
+    Rig rig(dim);
+    ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+    int phantoms = 0;
+    for (int i = 0; i < 480; ++i) {
+      const bool touched = i % 2 == 1;
+      const cv::Mat frame = touched ? rig.camera.Render(touches) : rig.camera.Render({});
+      Result<ContourFrame> r = rig.sensor.Step(frame, i, i / 60.0);
+      ASSERT_TRUE(r);
+      const double level = rig.sensor.LastThreshold();
+      if (i < 60) {
+        EXPECT_EQ(level, 30.0) << "seed " << seed << " frame " << i;
+      }
+      if (i < 210) continue;
+      EXPECT_NEAR(level, 4.3, 0.5) << "seed " << seed << " frame " << i;
+      if (!touched) {
+        phantoms += static_cast<int>(r.value().blobs.size());
+        continue;
+      }
+      ASSERT_EQ(r.value().blobs.size(), std::size(touches)) << "seed " << seed << " frame " << i;
+      for (const ContactShape& t : touches) {
+        double nearest = 1e9;
+        for (const Blob& b : r.value().blobs)
+          nearest = std::min(nearest, (b.centroid - t.pose.pos).norm());
+        EXPECT_LT(nearest, 0.1) << "seed " << seed << " frame " << i;
+      }
+    }
+    EXPECT_EQ(phantoms, 0) << "seed " << seed;
+
+    SyntheticCameraParams bright = dim;
+    bright.contactLevel = 220.0;
+    Rig brightRig(bright);
+    ASSERT_FALSE(brightRig.sensor.SetBackground(brightRig.camera.Background()));
+    for (int i = 0; i < 240; ++i) {
+      ASSERT_TRUE(brightRig.sensor.Step(brightRig.camera.Render(touches), i, i / 60.0));
+      EXPECT_EQ(brightRig.sensor.LastThreshold(), 30.0) << "seed " << seed << " frame " << i;
+    }
   }
 }
 
@@ -647,6 +726,7 @@ TEST(Sensor, HighpassFadesAWideGlowAndKeepsAFingertip) {
 TEST(Sensor, BackgroundFollowsTheFramesWhereNothingTouches) {
   SensingParams sp;
   sp.backgroundLearning = 1.0;  // s
+  sp.touchLearning = 0.0;       // never under a contact (see the test below)
   Rig rig(HardCamera(), sp);
   ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
   const cv::Mat before = rig.sensor.Background().clone();
@@ -672,6 +752,55 @@ TEST(Sensor, BackgroundFollowsTheFramesWhereNothingTouches) {
   const cv::Mat kept = after.clone();
   ASSERT_TRUE(rig.sensor.Step(rig.camera.Render(shapes), 151, 150 / 30.0));
   EXPECT_EQ(cv::norm(rig.sensor.Background(), kept, cv::NORM_INF), 0.0);
+}
+
+// A noiseless camera: every |frame - background| is 0, so the measured noise is 0, and the level
+// would come down to 0 (any grey level above the table a contact). It stops at the rounding of
+// frame and background to whole grey levels, which every 8-bit camera has: 5 x sqrt(2 / 12) =
+// 2.04 grey. After 3 s (warm-up, a second of measuring, the fall from 30 to 2 takes ln 15 =
+// 2.7 s more: 4 s in all) the level is that, and the empty table shows nothing.
+TEST(Sensor, AdaptiveLevelOnANoiselessCameraStopsAtTheRounding) {
+  SyntheticCameraParams p = HardCamera(4);
+  p.noise = 0.0;
+  Rig rig(p);
+  for (int i = 0; i < 300; ++i) {
+    Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render({}), i, i / 60.0);
+    ASSERT_TRUE(r);
+    EXPECT_TRUE(r.value().blobs.empty()) << "frame " << i;
+  }
+  EXPECT_NEAR(rig.sensor.LastThreshold(), 5.0 * std::sqrt(2.0 / 12.0), 1e-9);
+}
+
+// Under a contact the background learns with touch_learning. A bright disc that never changes
+// (180 grey above the table at its centre; the fixed threshold 30) fades out of the contacts once
+// the background under it has learned all but 30 of its 180 grey: 1 - e^(-t / T) = 5/6, so at
+// t = T ln 6 = 3.6 s for T = 2 s. Each band of rows learns under contacts when its turn comes
+// (every 8 frames, 0.13 s) once T / 100 has passed, at the rate for the time since it last did,
+// so that moment comes up to 0.13 s late; the disc's rim falls below the threshold before its
+// centre, and the rim then learns at background_learning, so it may go sooner but not before its
+// centre is half learned (t = T ln 2 = 1.4 s). So: present at 0.3 s, gone by 4.8 s. With
+// touch_learning = 0 it stays.
+TEST(Sensor, AContactThatNeverChangesFadesIntoTheBackground) {
+  const ContactShape spot[] = {Circle({30.0, 20.0}, 1.0)};
+  for (double touchLearning : {2.0, 0.0}) {
+    SensingParams sp;
+    sp.thresholdMode = ThresholdMode::kFixed;
+    sp.touchLearning = touchLearning;
+    sp.backgroundLearning = 1.0;
+    Rig rig(HardCamera(), sp);
+    ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+    for (int i = 0; i <= 360; ++i) {
+      Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render(spot), i, i / 60.0);
+      ASSERT_TRUE(r);
+      const size_t n = r.value().blobs.size();
+      if (i <= 18 || touchLearning == 0.0) {
+        EXPECT_EQ(n, 1u) << "touch_learning " << touchLearning << " frame " << i;
+      }
+      if (i >= 288 && touchLearning > 0.0) {
+        EXPECT_EQ(n, 0u) << "frame " << i;
+      }
+    }
+  }
 }
 
 TEST(Sensor, EveryBandOfRowsLearnsWithTheSameTimeConstant) {
@@ -762,6 +891,60 @@ TEST(Sensor, WarmupMakesAStaticHotSpotBackground) {
 // thresholded image must be the same bits as the whole frame's, and so must every contour. Checked
 // on frames with fingertips, hands at several pressures (faint ones near the threshold), wide
 // glows and one touching the image's edge, at several thresholds and gains.
+// The adaptive level with the partial high-pass: the level each frame and the thresholded image
+// are those of the whole frame's, bit for bit, on a dim table (touches 12 grey, noise 1: the
+// level comes down to the noise floor, about 6.1 grey (below): the estimated background's warm-up
+// of 0.3 s and a second of noise measuring, then the fall from 30 by a factor e a second, by
+// 1.3 + ln(30 / 6.1) = 2.9 s) through the level's fall, and when a full-contrast touch lands at
+// 3.5 s (the brightest touch rises at once, the level with it) and lifts at 4.5 s (the level
+// stays: the touch is remembered for contrast_memory).
+TEST(Sensor, AdaptiveLevelWithTheHighpassOnlyWhereContactsCanBeIsTheWholeFramesLevel) {
+  SyntheticCameraParams dim = HardCamera(9);
+  dim.noise = 1.0;
+  dim.contactLevel = dim.background + 12.0;
+  dim.haloLevel = 0.0;
+  Rig whole(dim), parts(dim);
+  parts.sensor.SetWholeStages(false);
+  SyntheticCameraParams brightParams = dim;
+  brightParams.contactLevel = 220.0;
+  SyntheticCamera bright(brightParams, whole.table);
+  double lowest = 255.0;
+  for (int i = 0; i < 330; ++i) {
+    std::vector<ContactShape> shapes = {Circle({10.0 + 0.05 * i, 12.0}, 0.8),
+                                        Make(ShapeKind::kHandFive, {35.0, 22.0}, 0.5 * i)};
+    cv::Mat frame = whole.camera.Render(shapes);
+    if (i >= 210 && i < 270) {
+      // a firm touch beside them: the bright camera's frame there, the dim one's elsewhere
+      const ContactShape firm[] = {Circle({50.0, 35.0}, 0.9)};
+      const cv::Mat lit = bright.Render(firm);
+      const cv::Point c(static_cast<int>(whole.camera.model().TableToCamera({50.0, 35.0}).x()),
+                        static_cast<int>(whole.camera.model().TableToCamera({50.0, 35.0}).y()));
+      const cv::Rect r = cv::Rect(c.x - 20, c.y - 20, 41, 41) & cv::Rect(cv::Point(), frame.size());
+      lit(r).copyTo(frame(r));
+    }
+    ASSERT_TRUE(whole.sensor.Step(frame, i, i / 60.0));
+    ASSERT_TRUE(parts.sensor.Step(frame, i, i / 60.0));
+    ASSERT_EQ(whole.sensor.LastThreshold(), parts.sensor.LastThreshold()) << "frame " << i;
+    ASSERT_EQ(cv::norm(whole.sensor.StageImage(SensingStage::kBinary),
+                       parts.sensor.StageImage(SensingStage::kBinary), cv::NORM_INF),
+              0.0)
+        << "frame " << i;
+    if (i < 210) lowest = std::min(lowest, whole.sensor.LastThreshold());
+    // the firm touch (about 180 grey): 0.3 x 180 > 30 holds the level at the threshold
+    if (i >= 210) {
+      EXPECT_EQ(whole.sensor.LastThreshold(), 30.0) << "frame " << i;
+    }
+  }
+  // Before it: down to the noise floor. The noise the sensor sees: the camera's 1 grey, the
+  // rounding of frame and background (1/12 each) and what the estimated background kept of the
+  // noise during its warm-up (an average with weight a = 1 - e^(-1/6) a frame keeps a / (2 - a) =
+  // 0.083 of the variance): sqrt(1 + 2/12 + 0.083) = 1.12 grey. The median of |d| read on whole
+  // grey levels, interpolating linearly in the bin [0.5, 1.5), comes out at 0.5 + (0.5 - 0.345) /
+  // 0.475 = 0.826 for that deviation, so sigma reads 1.22: 5 sigma = 6.1 +- 0.4 (the hand and the
+  // touch cover a little of the frame, the sample is finite).
+  EXPECT_NEAR(lowest, 6.1, 0.4);
+}
+
 TEST(Sensor, HighpassOnlyWhereContactsCanBeGivesTheSameContours) {
   struct Setting {
     double threshold, gain, cap;
@@ -866,49 +1049,85 @@ real::Score ScoreClips(const RealData& d, const std::vector<std::string>& names)
         [&](int i, const ContourFrame& f, const Sensor& sensor) { scorer(i, f, sensor); });
     EXPECT_TRUE(read) << "cannot read " << d.dir << "/" << clip.path;
     const real::Score& s = scorer.score;
-    std::printf("%-50s %2d frames: %3d of %3d fingertips found, %2d of %3d contacts unmatched\n",
-                clip.path.c_str(), s.frames, s.found, s.tips, s.unmatched, s.contacts);
+    std::printf(
+        "%-50s %2d frames: %3d of %3d fingertips found, %2d of %3d contacts unmatched (%2d "
+        "without the hand circles)\n",
+        clip.path.c_str(), s.frames, s.found, s.tips, s.unmatched, s.contacts, s.offTips);
     total.frames += s.frames;
     total.tips += s.tips;
     total.found += s.found;
     total.contacts += s.contacts;
     total.unmatched += s.unmatched;
+    total.offTips += s.offTips;
     total.misses += s.misses;
   }
   return total;
 }
 
-// the clips where the defaults meet the fingertip acceptance (t2.avi does not: see below)
-const std::vector<std::string> kFtirAndBrightDi = {"hard-5point", "seth_tests", "realhands"};
+// every labelled clip
+const std::vector<std::string> kAllClips = {"hard-5point", "seth_tests", "t2.avi", "realhands"};
 
 TEST(RealFootage, DefaultsFindAtLeast95PercentOfTheLabelledFingertips) {
   const RealData d = LoadReal();
   if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
-  const real::Score s = ScoreClips(d, kFtirAndBrightDi);
-  ASSERT_GT(s.tips, 100);
+  const real::Score s = ScoreClips(d, kAllClips);
+  ASSERT_GT(s.tips, 200);
   // issue 14 acceptance: a contact's contour holds (within the 3 px label precision) the label
   EXPECT_GE(s.found, 0.95 * s.tips) << s.misses;
 }
 
+// t2.avi alone: its hands are a few grey levels above the table (the fixed threshold of 30 finds
+// none of them); the adaptive level comes down to them (docs/sensing.md).
+TEST(RealFootage, DefaultsFindTheLowContrastHandsOfT2) {
+  const RealData d = LoadReal();
+  if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
+  const real::Score s = ScoreClips(d, {"t2.avi"});
+  ASSERT_EQ(s.tips, 60);
+  EXPECT_GE(s.found, 0.95 * s.tips) << s.misses;
+}
+
+// "No contact at a static hot spot of t2.avi after the first second". A contact "at" a hot spot:
+// its centroid within half the spot's radius of the centre. The hands pass over the lower hot
+// spots (frame 300's left palm lies on one), and a hand there is a contact at the spot that is no
+// phantom; so two checks:
+//  - on the frames where the table is clear (the labels' `clear` ranges, seen by eye: from frame
+//    1900 the hands are gone), none at all;
+//  - at no time after the first second does a contact stay at a hot spot for 2 s (117 frames): a
+//    phantom of a static spot stays as long as the spot does, while a hand moves on (the longest
+//    a hand lingered at one was 0.75 s, frames 1471 to 1514).
 TEST(RealFootage, DefaultsFindNoContactAtTheHotSpotsOfT2AfterTheFirstSecond) {
   const RealData d = LoadReal();
   if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
   for (const real::LabelledClip& clip : d.clips) {
     if (clip.hotspots.empty()) continue;
-    int hits = 0, frames = 0;
-    // a contact "at" a hot spot: its centroid within half the spot's radius of the centre
+    ASSERT_FALSE(clip.clear.empty()) << clip.path;
+    int clearHits = 0, frames = 0, clearFrames = 0;
+    std::vector<int> run(clip.hotspots.size(), 0), longest(clip.hotspots.size(), 0);
     ASSERT_TRUE(real::RunClip(d.dir, clip, SensingParams(), 1 << 30,
-                              [&](int, const ContourFrame& f, const Sensor& sensor) {
+                              [&](int i, const ContourFrame& f, const Sensor& sensor) {
                                 ++frames;
                                 if (f.time <= 1.0) return;
-                                for (const Blob& b : f.blobs) {
-                                  const Vec2 c = real::CentroidPixel(b, sensor);
-                                  for (const real::Spot& h : clip.hotspots)
-                                    if (std::hypot(c.x() - h.x, c.y() - h.y) < 0.5 * h.r) ++hits;
+                                clearFrames += clip.IsClear(i) ? 1 : 0;
+                                for (size_t k = 0; k < clip.hotspots.size(); ++k) {
+                                  const real::Spot& h = clip.hotspots[k];
+                                  bool at = false;
+                                  for (const Blob& b : f.blobs) {
+                                    const Vec2 c = real::CentroidPixel(b, sensor);
+                                    at = at || std::hypot(c.x() - h.x, c.y() - h.y) < 0.5 * h.r;
+                                  }
+                                  run[k] = at ? run[k] + 1 : 0;
+                                  longest[k] = std::max(longest[k], run[k]);
+                                  if (at && clip.IsClear(i)) ++clearHits;
                                 }
                               }));
     EXPECT_GT(frames, 2000) << clip.path;
-    EXPECT_EQ(hits, 0) << clip.path;
+    EXPECT_GT(clearFrames, 400) << clip.path;
+    EXPECT_EQ(clearHits, 0) << clip.path;
+    for (size_t k = 0; k < clip.hotspots.size(); ++k) {
+      std::printf("%s hot spot (%.0f, %.0f): longest stay of a contact %d frames\n",
+                  clip.path.c_str(), clip.hotspots[k].x, clip.hotspots[k].y, longest[k]);
+      EXPECT_LT(longest[k], 117) << clip.path << " hot spot " << k;
+    }
   }
 }
 
@@ -947,23 +1166,17 @@ TEST(RealFootage, HighpassOnlyWhereContactsCanBeGivesTheSameThresholdedImage) {
 }
 
 // Not met yet (issue 14 stays open on it): at most 1 contact per 20 labelled frames that holds
-// no fingertip label and lies in no "maybe" circle. The defaults give 3 in 35 frames
-// (1.7 per 20), all on seth_tests.avi (a knuckle beside a fingertip, the glowing heel of a palm).
+// no fingertip label and lies in no "maybe" or "hand" circle. The defaults give 5 in 43 frames
+// (2.3 per 20): hard-5point.avi's first frame (a streak of the table's texture, before the
+// warm-up), a knuckle on seth_tests.avi's frame 500, and three on t2.avi's hands just outside
+// the hand circles (docs/sensing.md); without the hand circles, 12.
 TEST(RealFootage, DISABLED_DefaultsFindAtMostOneUnlabelledContactPer20Frames) {
   const RealData d = LoadReal();
   if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
-  const real::Score s = ScoreClips(d, kFtirAndBrightDi);
+  const real::Score s = ScoreClips(d, kAllClips);
+  std::printf("all clips: %d unmatched in %d frames (%d without the hand circles)\n", s.unmatched,
+              s.frames, s.offTips);
   EXPECT_LE(s.unmatched * 20, s.frames) << s.misses;
-}
-
-// Not met yet (issue 14 stays open on it): t2.avi's hands are a few grey levels above the table;
-// gain 1 and threshold 30 find none of them. Gain 12 with threshold 40 finds 58
-// of 60, but then gives 2 to 5 false contacts per frame on the other clips.
-TEST(RealFootage, DISABLED_DefaultsFindTheLowContrastHandsOfT2) {
-  const RealData d = LoadReal();
-  if (d.dir.empty()) GTEST_SKIP() << kNoRealData;
-  const real::Score s = ScoreClips(d, {"t2.avi"});
-  EXPECT_GE(s.found, 0.95 * s.tips) << s.misses;
 }
 
 }  // namespace

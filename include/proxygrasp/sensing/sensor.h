@@ -97,13 +97,22 @@ class Sensor {
   // the border pixels moved onto the sub-pixel edge (a long border's thinned where straight)
   void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out);
   void BuildTableMaps();
-  void Filter(bool whole);
+  // `level` is the threshold the tiles of HighpassWhereContactsCanBe are marked for
+  void Filter(bool whole, double level);
   // the high-pass and the gain in the tiles where a contact can be (SetWholeStages(false)), into
   // the stage images Filter has made ready
-  void HighpassWhereContactsCanBe(int width);
+  void HighpassWhereContactsCanBe(int width, double level);
   // the high-pass (box blur `width` px) and the gain over one rectangle of the frame
   void HighpassOver(const cv::Rect& rect, int width);
   void LearnBackground(double time);
+  // the adaptive threshold (gained grey) with this brightest touch remembered
+  double AdaptiveLevel(double brightest) const;
+  // the background is still being seeded or warmed up (the noise cannot be measured against it)
+  bool WarmingUp() const;
+  // the camera noise's deviation in the frame just learned (threshold_mode "adaptive")
+  void MeasureNoise(double dt);
+  // the highest filtered level above `level` (0 when none), where the filter worked
+  double BrightestAbove(double level) const;
   double PixelsPerCm() const;
 
   SensingParams m_params;
@@ -121,13 +130,25 @@ class Sensor {
   bool m_haveTime = false;
   // the learning updates one band of rows a frame, in turn (LearnBackground)
   static constexpr int kLearnBands = 8;
-  std::array<double, kLearnBands> m_bandTime{};  // s, when each band was last learned
+  std::array<double, kLearnBands> m_bandTime{};   // s, when each band was last learned
+  std::array<double, kLearnBands> m_touchTime{};  // s, when each band was last learned under
+                                                  // contacts
   int m_nextBand = 0;
   bool m_bandsStarted = false;
   cv::Mat m_captureSum;  // CV_32F, while averaging the first frames
   int m_captured = 0;    // frames averaged so far
   double m_lastThreshold = 0.0;
   bool m_wholeStages = true;
+  // threshold_mode "adaptive": the camera noise's deviation (grey, < 0 until measured after the
+  // warm-up), the brightest touch remembered (filtered grey) and when it was last updated
+  double m_noise = -1.0;
+  int m_noisePhase = 0;      // the first row MeasureNoise samples, less 4
+  double m_noiseSum = 0.0;   // the deviations measured in the first second, summed
+  double m_noiseTime = 0.0;  // s of frames measured
+  int m_noiseFrames = 0;
+  double m_brightest = 0.0;
+  double m_brightestTime = 0.0;
+  double m_level = -1.0;  // the last adaptive level (filtered grey), < 0 before the first
 
   // the stage images, reused every frame
   cv::Mat m_grey;                    // CV_8UC1

@@ -62,10 +62,12 @@ struct SyntheticCameraParams {
 
 /// Threshold modes.
 enum class ThresholdMode {
-  kFixed,  ///< the fixed `threshold`
-  kAuto,   ///< Otsu's method on each frame, never below `auto_floor`
+  kFixed,     ///< the fixed `threshold`
+  kAuto,      ///< Otsu's method on each frame, never below `auto_floor`
+  kAdaptive,  ///< a fraction of the table's brightest recent touch, above its noise, at most
+              ///< `threshold`
 };
-inline constexpr const char* kThresholdModeNames[] = {"fixed", "auto"};
+inline constexpr const char* kThresholdModeNames[] = {"fixed", "auto", "adaptive"};
 
 /// Parameters of preprocessing and contour extraction. Section [sensing] of a level.
 struct SensingParams {
@@ -73,18 +75,22 @@ struct SensingParams {
   int backgroundFrames = 0;       ///< frames averaged into the background at start (0 = estimate)
   double backgroundWarmup = 0.3;  ///< time an estimated background follows every pixel, s
   double backgroundLearning = 10.0;  ///< learned background's time constant, s (0 = frozen)
-  double smooth = 0.0;               ///< Gaussian smoothing deviation, cm (0 = none)
-  double highpassWidth = 4.0;        ///< width of the blur the high-pass subtracts, cm (0 = none)
-  double highpassCap = 40.0;         ///< most slow brightness the high-pass removes, 8-bit grey
-  double gain = 1.0;                 ///< amplification after the high-pass, non-dimensional
-  ThresholdMode thresholdMode = ThresholdMode::kFixed;  ///< fixed level or automatic (Otsu)
-  double threshold = 30.0;       ///< fixed threshold on the filtered image, 8-bit grey
-  double autoFloor = 30.0;       ///< lowest threshold the automatic mode may pick, 8-bit grey
-  int morphology = 1;            ///< radius of the clean-up opening, pixels (0 = none)
-  double minArea = 0.5;          ///< smallest contact kept, cm^2
-  double spacing = 0.3;          ///< arc-length spacing of resampled contours, cm
-  bool subpixel = true;          ///< move contour points onto the half-contrast edge, sub-pixel
-  double tableCmPerPixel = 0.1;  ///< pixel size of the table-aligned image (when asked), cm
+  double touchLearning = 300.0;  ///< the background's time constant under contacts, s (0 = never)
+  double smooth = 0.0;           ///< Gaussian smoothing deviation, cm (0 = none)
+  double highpassWidth = 4.0;    ///< width of the blur the high-pass subtracts, cm (0 = none)
+  double highpassCap = 40.0;     ///< most slow brightness the high-pass removes, 8-bit grey
+  double gain = 1.0;             ///< amplification after the high-pass, non-dimensional
+  ThresholdMode thresholdMode = ThresholdMode::kAdaptive;  ///< how the threshold is set
+  double threshold = 30.0;  ///< fixed threshold on the filtered image (adaptive: the highest), grey
+  double autoFloor = 30.0;  ///< lowest threshold the automatic mode may pick, 8-bit grey
+  double noiseFactor = 5.0;       ///< adaptive: lowest level, in camera noise deviations, 1
+  double contrastFraction = 0.3;  ///< adaptive: level as a fraction of the brightest touch, 1
+  double contrastMemory = 60.0;   ///< adaptive: how long the brightest touch is remembered, s
+  int morphology = 1;             ///< radius of the clean-up opening, pixels (0 = none)
+  double minArea = 0.5;           ///< smallest contact kept, cm^2
+  double spacing = 0.3;           ///< arc-length spacing of resampled contours, cm
+  bool subpixel = true;           ///< move contour points onto the half-contrast edge, sub-pixel
+  double tableCmPerPixel = 0.1;   ///< pixel size of the table-aligned image (when asked), cm
 };
 
 /// One connected component: an evenly resampled outer contour and its summary, in table cm.
