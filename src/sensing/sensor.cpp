@@ -233,18 +233,8 @@ MaybeError Sensor::Configure(const SensingParams& params, const TableParams& tab
   m_model = model.value();
   m_linear = !m_model.HasDistortion();
   m_background = calibration.background.empty() ? cv::Mat() : calibration.background.clone();
-  m_learned.release();
-  m_warmup = false;
+  ForgetLearned();
   m_haveTime = false;
-  m_noise = -1.0;
-  m_level = -1.0;
-  m_noisePhase = 0;
-  m_noiseSum = 0.0;
-  m_noiseTime = 0.0;
-  m_noiseFrames = 0;
-  m_brightest = 0.0;
-  m_captureSum.release();
-  m_captured = 0;
   m_tableMapX.release();
   m_tableMapY.release();
   m_kernel = OpeningKernel(params.morphology);
@@ -286,8 +276,15 @@ MaybeError Sensor::SetBackground(const cv::Mat& background) {
     return MakeError({"background"},
                      "must be an 8-bit grey (CV_8UC1) image of " + SizeText(expected));
   m_background = background.clone();
+  ForgetLearned();
+  return std::nullopt;
+}
+
+void Sensor::ForgetLearned() {
   m_learned.release();
   m_warmup = false;
+  m_captureSum.release();
+  m_captured = 0;
   m_noise = -1.0;
   m_level = -1.0;
   m_noisePhase = 0;
@@ -295,9 +292,6 @@ MaybeError Sensor::SetBackground(const cv::Mat& background) {
   m_noiseTime = 0.0;
   m_noiseFrames = 0;
   m_brightest = 0.0;
-  m_captureSum.release();
-  m_captured = 0;
-  return std::nullopt;
 }
 
 Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double time,

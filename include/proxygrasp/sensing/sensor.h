@@ -93,6 +93,9 @@ class Sensor {
   bool configured() const { return m_configured; }
 
  private:
+  // a new background: what was learned or measured against the old one goes (the learning, the
+  // capture of clear frames, the adaptive level's noise and brightest touch)
+  void ForgetLearned();
   void ExtractBlobs(std::vector<Blob>& blobs);
   // the border pixels moved onto the sub-pixel edge (a long border's thinned where straight)
   void RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out);
