@@ -395,8 +395,7 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   }
 
   ExtractBlobs(out.blobs);
-  const double dt = m_haveTime ? time - m_lastTime : 0.0;
-  LearnBackground(time);
+  const double dt = LearnBackground(time);
   if (m_params.thresholdMode == ThresholdMode::kAdaptive && !WarmingUp()) MeasureNoise(dt);
 
   if (wantTableImage) {
@@ -432,12 +431,11 @@ bool Sensor::WarmingUp() const {
 void Sensor::MeasureNoise(double dt) {
   // |frame - background| on every 8th column of every 32nd row, the rows shifted by 8 each frame
   // (1,200 samples of a 640x480 frame; the smoothing below pools the frames): most of a frame is
-  // clear table, so its
-  // median is the noise's (a hand covering less than half the frame moves it little; more makes
-  // the level higher, never lower). For Gaussian noise the median of |d| is 0.6745 sigma. The
-  // differences are whole grey levels: the median is interpolated within its level's bin, a
-  // level k standing for [k - 0.5, k + 0.5) (0 for [0, 0.5)), so that a deviation under one
-  // grey level is still measured.
+  // clear table, so its median is the noise's (a hand covering less than half the frame moves it
+  // little; more makes the level higher, never lower). For Gaussian noise the median of |d| is
+  // 0.6745 sigma. The differences are whole grey levels: the median is interpolated within its
+  // level's bin, a level k standing for [k - 0.5, k + 0.5) (0 for [0, 0.5)), so that a deviation
+  // under one grey level is still measured.
   constexpr int kStep = 8, kRowStep = 32;
   std::array<int, 256> counts{};
   int n = 0;
@@ -672,30 +670,29 @@ void Sensor::HighpassWhereContactsCanBe(int width, double level) {
   }
 }
 
-void Sensor::LearnBackground(double time) {
+double Sensor::LearnBackground(double time) {
   const double dt = m_haveTime ? time - m_lastTime : 0.0;
   m_lastTime = time;
   m_haveTime = true;
-  if (!(dt > 0.0)) return;
+  if (!(dt > 0.0)) return dt;
   if (m_learned.empty()) {
     m_background.convertTo(m_learned, CV_32F);
     m_learnedTime = 0.0;
     m_bandsStarted = false;
   }
   m_learnedTime += dt;
-  const double warmup = m_params.backgroundWarmup;
-  if (m_warmup && m_learnedTime <= warmup) {
+  if (WarmingUp()) {
     // warm-up: the background converges on the frames everywhere (what is static from the start,
     // like an illuminator's hot spot, is background; a touch there heals once lifted)
-    const double alpha = 1.0 - std::exp(-dt / (warmup / 3.0));
+    const double alpha = 1.0 - std::exp(-dt / (m_params.backgroundWarmup / 3.0));
     cv::accumulateWeighted(m_grey, m_learned, alpha);
     m_learned.convertTo(m_background, CV_8UC1);
-    return;
+    return dt;
   }
   if (m_params.backgroundLearning <= 0.0) {
     // learning is off: when it comes back on, the time it was off is not learned
     m_bandsStarted = false;
-    return;
+    return dt;
   }
   if (!m_bandsStarted) {
     // every band was last learned at the previous frame
@@ -713,10 +710,10 @@ void Sensor::LearnBackground(double time) {
   m_nextBand = (m_nextBand + 1) % kLearnBands;
   const double bandDt = time - m_bandTime[band];
   m_bandTime[band] = time;
-  if (!(bandDt > 0.0)) return;
+  if (!(bandDt > 0.0)) return dt;
   const int rows = m_grey.rows;
   const int r0 = rows * band / kLearnBands, r1 = rows * (band + 1) / kLearnBands;
-  if (r1 <= r0) return;
+  if (r1 <= r0) return dt;
   // where nothing touches: outside the contacts dilated by a margin, so the dilation sees the
   // margin's rows beyond the band
   constexpr int kMargin = 3;  // px around contacts the learning leaves alone
@@ -743,6 +740,7 @@ void Sensor::LearnBackground(double time) {
   }
   cv::Mat background = m_background(cv::Range(r0, r1), cols);
   learned.convertTo(background, CV_8UC1);
+  return dt;
 }
 
 const cv::Mat& Sensor::StageImage(SensingStage stage) const {

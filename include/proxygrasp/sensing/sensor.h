@@ -107,7 +107,8 @@ class Sensor {
   void HighpassWhereContactsCanBe(int width, double level);
   // the high-pass (box blur `width` px) and the gain over one rectangle of the frame
   void HighpassOver(const cv::Rect& rect, int width);
-  void LearnBackground(double time);
+  // returns the time since the last frame (0 for the first frame or one at the same time)
+  double LearnBackground(double time);
   // the adaptive threshold (gained grey) with this brightest touch remembered
   double AdaptiveLevel(double brightest) const;
   // the background is still being seeded or warmed up (the noise cannot be measured against it)
