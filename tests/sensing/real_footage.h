@@ -188,8 +188,16 @@ struct Score {
   std::string misses;  // where, for messages
 };
 
-/// Label reading precision (real_labels.txt): a contact passing within this of a label holds it.
+/// Label reading precision (real_labels.txt), px: a contact passing within this of a fingertip
+/// label holds it, and a centroid within this outside a circle's radius lies in the circle.
 inline constexpr double kLabelSlackPx = 3.0;
+
+/// True when a camera point lies in a maybe or hand circle. The circles were read off the same
+/// exports and grid as the fingertips, so their edge is known to the same precision: a centroid
+/// within kLabelSlackPx outside the drawn radius lies in the circle.
+inline bool InCircle(const Vec2& point, const Spot& circle) {
+  return std::hypot(point.x() - circle.x, point.y() - circle.y) <= circle.r + kLabelSlackPx;
+}
 
 /// Scores one labelled frame's contacts.
 inline void ScoreFrame(const LabelledClip& clip, const LabelledFrame& labels,
@@ -211,11 +219,9 @@ inline void ScoreFrame(const LabelledClip& clip, const LabelledFrame& labels,
     bool matched = false;
     for (const Spot& tip : labels.tips) matched = matched || Holds(b, sensor, tip, kLabelSlackPx);
     const Vec2 c = CentroidPixel(b, sensor);
-    for (const Spot& m : labels.maybes)
-      matched = matched || std::hypot(c.x() - m.x, c.y() - m.y) <= m.r;
+    for (const Spot& m : labels.maybes) matched = matched || InCircle(c, m);
     if (!matched) ++score.offTips;
-    for (const Spot& h : labels.hands)
-      matched = matched || std::hypot(c.x() - h.x, c.y() - h.y) <= h.r;
+    for (const Spot& h : labels.hands) matched = matched || InCircle(c, h);
     if (!matched) {
       ++score.unmatched;
       score.misses += " extra " + clip.path + "@" + std::to_string(labels.index) + "(" +
