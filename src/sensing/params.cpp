@@ -40,11 +40,6 @@ void Describe(SensingParams& p, ParamVisitor& v) {
          "time constant with which the background follows the frames under contacts, so that "
          "a contact that never changes (a light left on, something bright left on the table) "
          "fades; a finger held this long loses 63% of its contrast; 0 = never");
-  v.Real("dark_learning", p.darkLearning, 0, 3600, "s",
-         "time constant with which the background follows the frames where the frame is darker "
-         "than it by more than the threshold (nothing that touches darkens the table: a hand "
-         "that was there when the background was taken has moved away); 0, or a value not below "
-         "background_learning, = at background_learning");
   v.Real("smooth", p.smooth, 0, 2, "cm",
          "deviation of the Gaussian blur that removes sensor noise after the background is "
          "subtracted (0 = none)");

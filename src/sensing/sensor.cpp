@@ -739,26 +739,6 @@ double Sensor::LearnBackground(double time) {
                            1.0 - std::exp(-touchDt / m_params.touchLearning), still);
   }
   cv::Mat background = m_background(cv::Range(r0, r1), cols);
-  if (m_params.darkLearning > 0.0 && m_params.darkLearning < m_params.backgroundLearning) {
-    // Where the frame is darker than the background by more than the threshold, the background
-    // is too bright: nothing that touches the table darkens it, so something bright was there
-    // when it was taken or learned (a hand on the table when the sensor started, a hand that
-    // hovered long) and has gone. Those pixels follow the frame at the faster dark_learning rate:
-    // with the rate already applied where nothing touches, 1 - e^(-dt / T_dark) in all (a little
-    // less within 3 px of a contact, where only this part applies). The
-    // threshold is in gained grey; a pixel of camera noise passes it downwards as rarely as
-    // upwards (5 sigma in the adaptive mode), so the background stays unbiased.
-    const double margin = std::max(1.0, m_lastThreshold / std::max(m_params.gain, 1e-6));
-    cv::subtract(background, m_grey(cv::Range(r0, r1), cols), m_dark);
-    double darkest = 0.0;
-    cv::minMaxLoc(m_dark, nullptr, &darkest);
-    if (darkest > margin) {  // mostly not: a band with no such pixel costs two passes
-      cv::threshold(m_dark, m_dark, margin, 255, cv::THRESH_BINARY);
-      const double extra =
-          1.0 - std::exp(-bandDt / m_params.darkLearning + bandDt / m_params.backgroundLearning);
-      cv::accumulateWeighted(m_grey(cv::Range(r0, r1), cols), learned, extra, m_dark);
-    }
-  }
   learned.convertTo(background, CV_8UC1);
   return dt;
 }

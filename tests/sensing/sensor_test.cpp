@@ -803,66 +803,6 @@ TEST(Sensor, AContactThatNeverChangesFadesIntoTheBackground) {
   }
 }
 
-// Where the background is brighter than the frame by more than the threshold, something bright
-// was there when it was taken (a hand resting on the table as the sensor starts) and has gone:
-// nothing that touches darkens the table. There the background follows the frame at
-// dark_learning (1 s) instead of background_learning (10 s), until it is within the threshold
-// (30, fixed; gain 1) of the frame; then at the slow rate, so the background is not pulled below
-// the table by the camera's noise. The background is set 100 grey too bright over a patch in the
-// 5th band of rows (rows 240 to 299), and the frames (noise 1 grey) show the clear table at 30
-// frames/s. The patch's excess d (its mean over 1,600 pixels: the learned noise averages out,
-// 0.5 grey of rounding is left) when its band was last learned at s (within the last 8 frames):
-//  - at t = 1 s: d = 100 e^(-s), s in (1 - 7/30, 1]: 36.8 to 46.4 grey (all pixels stay over
-//    the threshold plus 3 noise deviations, so all are fast);
-//  - at t = 5 s: fast down to d = 30 (at ln(100/30) = 1.2 s, up to 7/30 s late), then slow:
-//    30 e^(-(5 - 1.44) / 10) = 21.0 at most; a pixel's noise can take it fast down to 27 at most
-//    (3 deviations below the threshold; further it is rarer than 1 in 700 learnings), reached at
-//    ln(100/27) = 1.31 s at the earliest: 27 e^(-(5 - 1.31) / 10) = 18.7 at least;
-//  - with dark_learning = 0 the patch learns at 10 s throughout: 100 e^(-s / 10), 90.5 to 92.6
-//    at 1 s and 60.7 to 62.1 at 5 s.
-// Each bound has 1 grey of slack: the rounding and the mean's noise.
-TEST(Sensor, ABackgroundTooBrightWhereAHandWasLearnsTheTableFast) {
-  SyntheticCameraParams cp = HardCamera();
-  cp.noise = 1.0;
-  for (double darkLearning : {1.0, 0.0}) {
-    SensingParams sp;
-    sp.thresholdMode = ThresholdMode::kFixed;
-    sp.threshold = 30.0;
-    sp.backgroundLearning = 10.0;
-    sp.darkLearning = darkLearning;
-    Rig rig(cp, sp);
-    const cv::Rect patch(300, 250, 40, 40);
-    const cv::Mat table = rig.camera.Render({});
-    cv::Mat background = rig.camera.Background().clone();
-    double highest = 0.0;
-    cv::minMaxLoc(background(patch), nullptr, &highest);
-    ASSERT_LT(highest, 155.0);  // the patch + 100 stays below 255
-    background(patch) += cv::Scalar(100);
-    ASSERT_FALSE(rig.sensor.SetBackground(background));
-    const double tableMean = cv::mean(table(patch))[0];
-    for (int i = 0; i <= 150; ++i) {
-      Result<ContourFrame> r = rig.sensor.Step(rig.camera.Render({}), i, i / 30.0);
-      ASSERT_TRUE(r);
-      EXPECT_TRUE(r.value().blobs.empty()) << "frame " << i;  // a too bright background hides
-      if (i != 30 && i != 150) continue;
-      const double d = cv::mean(rig.sensor.Background()(patch))[0] - tableMean;
-      const double t = i / 30.0;
-      std::printf("dark_learning %.0f s: at %.0f s the patch is %.1f grey too bright\n",
-                  darkLearning, t, d);
-      if (darkLearning > 0.0 && i == 30) {
-        EXPECT_GE(d, 100.0 * std::exp(-t) - 1.0);
-        EXPECT_LE(d, 100.0 * std::exp(-(t - 7.0 / 30.0)) + 1.0);
-      } else if (darkLearning > 0.0) {
-        EXPECT_GE(d, 27.0 * std::exp(-(t - std::log(100.0 / 27.0)) / 10.0) - 1.0);
-        EXPECT_LE(d, 30.0 * std::exp(-(t - std::log(100.0 / 30.0) - 7.0 / 30.0) / 10.0) + 1.0);
-      } else {
-        EXPECT_GE(d, 100.0 * std::exp(-t / 10.0) - 1.0);
-        EXPECT_LE(d, 100.0 * std::exp(-(t - 7.0 / 30.0) / 10.0) + 1.0);
-      }
-    }
-  }
-}
-
 TEST(Sensor, EveryBandOfRowsLearnsWithTheSameTimeConstant) {
   // The learning updates one of 8 bands of rows a frame, in turn, each with the rate for the
   // time since it was last learned. The same frame, with the room light up by 20 grey, comes

@@ -164,7 +164,6 @@ class Sensor {
   cv::Mat m_wide;                    // CV_8UC1 scratch: the wide blur of the high-pass
   cv::Mat m_still;                   // CV_8UC1 scratch: where nothing touches
   cv::Mat m_eroded;                  // CV_8UC1 scratch: the opening's first pass
-  cv::Mat m_dark;                    // CV_8UC1 scratch: where a band is darker than the background
   std::vector<cv::Rect> m_areas;     // where the high-pass was worked out (m_areasOnly)
   bool m_areasOnly = false;          // the filtered image is 0 outside m_areas
   std::vector<uint8_t> m_tileMarks;  // per tile: some pixel there can pass the threshold

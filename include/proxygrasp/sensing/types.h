@@ -76,8 +76,6 @@ struct SensingParams {
   double backgroundWarmup = 0.3;  ///< time an estimated background follows every pixel, s
   double backgroundLearning = 10.0;  ///< learned background's time constant, s (0 = frozen)
   double touchLearning = 300.0;  ///< the background's time constant under contacts, s (0 = never)
-  double darkLearning = 1.0;     ///< the background's time constant where the table shows darker
-                                 ///< than it by more than the threshold, s (0 = as elsewhere)
   double smooth = 0.0;           ///< Gaussian smoothing deviation, cm (0 = none)
   double highpassWidth = 4.0;    ///< width of the blur the high-pass subtracts, cm (0 = none)
   double highpassCap = 40.0;     ///< most slow brightness the high-pass removes, 8-bit grey
