@@ -11,8 +11,8 @@ namespace pg {
 
 namespace {
 
-// one labelled BGR tile of `size` from a grey stage image
-cv::Mat Tile(const cv::Mat& grey, cv::Size size, const std::string& label) {
+// one labelled BGR tile of `size` from a grey stage image, its levels multiplied by `stretch`
+cv::Mat Tile(const cv::Mat& grey, cv::Size size, const std::string& label, double stretch = 1.0) {
   cv::Mat tile;
   if (grey.empty()) {
     tile = cv::Mat::zeros(size, CV_8UC3);
@@ -21,6 +21,12 @@ cv::Mat Tile(const cv::Mat& grey, cv::Size size, const std::string& label) {
     if (grey.size() != size)
       cv::resize(grey, scaled, size, 0, 0,
                  size.width < grey.cols ? cv::INTER_AREA : cv::INTER_LINEAR);
+    if (stretch != 1.0) {
+      // into a new image: `scaled` may still share the sensor's stage image
+      cv::Mat bright;
+      scaled.convertTo(bright, CV_8UC1, stretch);  // saturating
+      scaled = bright;
+    }
     cv::cvtColor(scaled, tile, cv::COLOR_GRAY2BGR);
   }
   // the label at the bottom left: the app's heads-up lines cover the top of the first tiles
@@ -59,18 +65,39 @@ cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& 
     }
   }
 
-  // then every stage after the camera, in chain order
+  // then every stage after the camera, in chain order. The differences from the background
+  // (subtracted to gained) are shown brightened so that the threshold shows as mid grey
+  // (kThresholdGrey): on a dim table, whose touches are a few grey levels above it, they would
+  // be black; on any table, what is grey or brighter in them is what can pass the threshold
+  // (before the high-pass and the gain, the threshold over the gain). Never darkened, at most
+  // kMostStretch times; the factor is in the label.
+  constexpr double kThresholdGrey = 128.0;
+  constexpr double kMostStretch = 64.0;
+  const double gain = sensor.params().gain;
   std::vector<cv::Mat> tiles{first};
   for (int k = 1; k < kSensingStageCount; ++k) {
     const SensingStage stage = static_cast<SensingStage>(k);
     std::string label = kSensingStageNames[k];
+    double stretch = 1.0;
+    if (stage == SensingStage::kSubtracted || stage == SensingStage::kSmoothed ||
+        stage == SensingStage::kHighpass || stage == SensingStage::kGained) {
+      const double level = stage == SensingStage::kGained || !(gain > 0.0)
+                               ? sensor.LastThreshold()
+                               : sensor.LastThreshold() / gain;
+      if (level > 0.0) stretch = std::clamp(kThresholdGrey / level, 1.0, kMostStretch);
+      if (stretch > 1.0) {
+        char times[32];
+        std::snprintf(times, sizeof(times), " (x%.1f)", stretch);
+        label += times;
+      }
+    }
     if (stage == SensingStage::kBinary) {
       // the level the gained image was thresholded at (it adapts: docs/sensing.md, step 7)
       char level[32];
       std::snprintf(level, sizeof(level), " (above %.1f)", sensor.LastThreshold());
       label += level;
     }
-    tiles.push_back(Tile(sensor.StageImage(stage), size, label));
+    tiles.push_back(Tile(sensor.StageImage(stage), size, label, stretch));
   }
   const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
   cv::Mat out = cv::Mat::zeros(size.height * rows, size.width * columns, CV_8UC3);

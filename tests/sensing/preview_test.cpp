@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 namespace pg {
 namespace {
 
@@ -61,6 +64,52 @@ TEST(SensingPreview, ShowsEveryStageAndTheContactOutlines) {
             cv::Vec3b(255, 255, 255));
   // a scale that is not positive gives nothing
   EXPECT_TRUE(SensingPreview(sensor, {}, 4, 0.0).empty());
+}
+
+// The difference stages are brightened so that the threshold shows as grey 128: by 128 / 30 at
+// the threshold of 30 (gain 1); by 64 at most (a threshold of 1 would ask 128); never darkened
+// (a threshold of 200 would ask 0.64). The subtracted tile (the 3rd: row 0, column 2) must be the
+// stage image times that factor, saturated at 255, pixel for pixel (above the label's rows); the
+// factor 128 / 30 leaves the fingertip's rim (levels under 60) unsaturated, so the factor itself
+// is checked there. The binary tile stays 0/255.
+TEST(SensingPreview, BrightensTheDifferenceStagesSoThatTheThresholdIsMidGrey) {
+  TableParams table;
+  SyntheticCamera camera(SyntheticCameraParams{}, table);
+  ContactShape tip;
+  tip.pose.pos = {30.0, 20.0};
+  const ContactShape shapes[] = {tip};
+  const cv::Mat frame = camera.Render(shapes);
+  for (double threshold : {30.0, 1.0, 200.0}) {
+    SensingParams sp;
+    sp.thresholdMode = ThresholdMode::kFixed;
+    sp.threshold = threshold;
+    Sensor sensor;
+    ASSERT_FALSE(sensor.Configure(sp, table, CalibrationFromModel(camera.model())));
+    ASSERT_FALSE(sensor.SetBackground(camera.Background()));
+    ASSERT_TRUE(sensor.Step(frame, 0, 0.0));
+    const double stretch = std::clamp(128.0 / threshold, 1.0, 64.0);
+    const cv::Mat view = SensingPreview(sensor, {});
+    const cv::Rect above(0, 0, 640, 440);  // the label is in the tile's bottom rows
+    cv::Mat shown;
+    cv::extractChannel(view(cv::Rect(2 * 640, 0, 640, 480)), shown, 0);
+    cv::Mat expected;
+    sensor.StageImage(SensingStage::kSubtracted).convertTo(expected, CV_8UC1, stretch);
+    EXPECT_EQ(cv::norm(shown(above), expected(above), cv::NORM_INF), 0.0)
+        << "threshold " << threshold;
+    if (threshold == 30.0) {
+      // some rim pixels of the fingertip lie between 10 and 255 / stretch: shown unsaturated
+      const cv::Mat& sub = sensor.StageImage(SensingStage::kSubtracted);
+      int unsaturated = 0;
+      for (int y = 0; y < 440; ++y)
+        for (int x = 0; x < 640; ++x)
+          unsaturated += sub.at<uint8_t>(y, x) >= 10 && sub.at<uint8_t>(y, x) * stretch < 254.0;
+      EXPECT_GT(unsaturated, 10);
+    }
+    const cv::Mat& binary = sensor.StageImage(SensingStage::kBinary);
+    cv::Mat shownBinary;
+    cv::extractChannel(view(cv::Rect(2 * 640, 480, 640, 480)), shownBinary, 0);
+    EXPECT_EQ(cv::norm(shownBinary(above), binary(above), cv::NORM_INF), 0.0);
+  }
 }
 
 }  // namespace
