@@ -75,15 +75,20 @@ inline std::vector<LabelledClip> ReadLabels(const std::string& file) {
     std::istringstream words(line);
     std::string key;
     if (!(words >> key)) continue;
+    // a circle's line: X Y R (a tip's: X Y, r unused)
+    const auto spot = [&words](bool withRadius) {
+      Spot s;
+      words >> s.x >> s.y;
+      if (withRadius) words >> s.r;
+      return s;
+    };
     if (key == "clip") {
       clips.emplace_back();
       words >> clips.back().path;
     } else if (key == "scale") {
       words >> clips.back().cmPerPixel;
     } else if (key == "hotspot") {
-      Spot s;
-      words >> s.x >> s.y >> s.r;
-      clips.back().hotspots.push_back(s);
+      clips.back().hotspots.push_back(spot(true));
     } else if (key == "clear") {
       std::pair<int, int> range;
       words >> range.first >> range.second;
@@ -92,17 +97,11 @@ inline std::vector<LabelledClip> ReadLabels(const std::string& file) {
       clips.back().frames.emplace_back();
       words >> clips.back().frames.back().index;
     } else if (key == "tip") {
-      Spot s;
-      words >> s.x >> s.y;
-      clips.back().frames.back().tips.push_back(s);
+      clips.back().frames.back().tips.push_back(spot(false));
     } else if (key == "maybe") {
-      Spot s;
-      words >> s.x >> s.y >> s.r;
-      clips.back().frames.back().maybes.push_back(s);
+      clips.back().frames.back().maybes.push_back(spot(true));
     } else if (key == "hand") {
-      Spot s;
-      words >> s.x >> s.y >> s.r;
-      clips.back().frames.back().hands.push_back(s);
+      clips.back().frames.back().hands.push_back(spot(true));
     }
   }
   return clips;
