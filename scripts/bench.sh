@@ -11,7 +11,7 @@ if [ "${1:-}" = "--docs" ]; then
   docs=1
   shift
 fi
-cmake --preset release
+bash scripts/configure.sh release
 cmake --build --preset release --target proxygrasp
 mkdir -p out
 pin=()

@@ -7,6 +7,9 @@ set -euo pipefail
 packages=(
   # toolchain
   build-essential cmake pkg-config git clang-format
+  # the build tool the presets use, and a compiler cache: a second build, in any clone, compiles
+  # only what changed (CMakeLists.txt)
+  ninja-build ccache
   # libraries (see docs/architecture.md for where each is used)
   libbox2d-dev libopencv-dev libeigen3-dev libsdl2-dev libtomlplusplus-dev libcli11-dev libimgui-dev
   liblo-dev

@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake --preset release
+bash scripts/configure.sh release
 # only what it plays: the proxygrasp program (the test command builds the rest)
 cmake --build --preset release --target proxygrasp
 exec build/release/proxygrasp play "$@"

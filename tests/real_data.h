@@ -2,6 +2,8 @@
 // (../shared/real, see its README). Tests that need them skip with kNoRealData when it is absent.
 #pragma once
 
+#include "test_paths.h"
+
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -14,8 +16,8 @@ namespace pg::test {
 inline std::string RealDataDir(const std::string& sub = "touchlib") {
   std::vector<std::string> candidates;
   if (const char* env = std::getenv("PROXYGRASP_REAL_DATA")) candidates.push_back(env);
-  candidates.push_back(std::string(PROXYGRASP_SOURCE_DIR) + "/../shared/real");
-  candidates.push_back(std::string(PROXYGRASP_SOURCE_DIR) + "/../../shared/real");
+  candidates.push_back(std::string(pg::test::SourceDir()) + "/../shared/real");
+  candidates.push_back(std::string(pg::test::SourceDir()) + "/../../shared/real");
   for (const std::string& c : candidates)
     if (std::filesystem::is_directory(c + "/" + sub)) return c;
   return "";

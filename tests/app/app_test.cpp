@@ -3,6 +3,7 @@
 #include "proxygrasp/app/app.h"
 
 #include "pixels.h"
+#include "test_paths.h"
 #include "xvfb.h"
 
 #include "proxygrasp/sensing/calibration.h"
@@ -18,7 +19,7 @@
 namespace pg {
 namespace {
 
-const std::string kTestData = PROXYGRASP_TESTDATA_DIR;
+const std::string kTestData = pg::test::TestDataDir();
 
 class AppTest : public ::testing::Test {
  protected:

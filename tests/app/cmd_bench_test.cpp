@@ -1,4 +1,5 @@
 #include "run_command.h"
+#include "test_paths.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -107,7 +108,7 @@ TEST(BenchCommand, ItsJsonBecomesThePerformanceDocsSection) {
   const auto r = RunProxygrasp("bench --frames 2 --scenes flat_hands2_s3_k8 --json " + json);
   ASSERT_EQ(r.exitCode, 0) << r.output;
   std::ofstream(doc) << "# before\n<!-- bench:begin -->\nold figures\n<!-- bench:end -->\nafter\n";
-  const std::string script = std::string(PROXYGRASP_SOURCE_DIR) + "/scripts/bench-docs.py";
+  const std::string script = std::string(pg::test::SourceDir()) + "/scripts/bench-docs.py";
   ASSERT_EQ(std::system(("python3 " + script + " " + json + " " + doc + " >/dev/null").c_str()), 0);
   std::stringstream text;
   text << std::ifstream(doc).rdbuf();

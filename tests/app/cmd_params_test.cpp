@@ -1,4 +1,5 @@
 #include "run_command.h"
+#include "test_paths.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -29,7 +30,7 @@ TEST(ParamsCommand, UnknownSectionExitsTwo) {
 
 // the text of doc between <!-- marker:begin --> and <!-- marker:end -->, or "<no markers>"
 std::string Generated(const std::string& doc, const std::string& marker) {
-  std::ifstream in(std::string(PROXYGRASP_SOURCE_DIR) + "/" + doc);
+  std::ifstream in(std::string(pg::test::SourceDir()) + "/" + doc);
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();

@@ -2,6 +2,7 @@
 // with a screenshot, and with no display at all (headless video and PNG).
 #include "pixels.h"
 #include "run_command.h"
+#include "test_paths.h"
 #include "xvfb.h"
 
 #include "proxygrasp/app/table_view.h"
@@ -18,13 +19,13 @@
 namespace pg {
 namespace {
 
-const std::string kLevel = std::string(PROXYGRASP_TESTDATA_DIR) + "/box_goal.toml";
+const std::string kLevel = std::string(pg::test::TestDataDir()) + "/box_goal.toml";
 constexpr int kColorTolerance = 12;  // per channel; antialiased edges blend, interiors are exact
 
 // runs proxygrasp through env(1) with these environment changes ("-u NAME", "NAME=value")
 test::CommandResult RunWithEnv(const std::string& env, const std::string& args) {
   test::CommandResult result;
-  const std::string command = "env " + env + " " + PROXYGRASP_BIN + " " + args + " 2>&1";
+  const std::string command = "env " + env + " " + pg::test::ProxygraspBin() + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
   char buffer[4096];

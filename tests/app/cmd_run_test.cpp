@@ -1,4 +1,5 @@
 #include "run_command.h"
+#include "test_paths.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -13,7 +14,7 @@ using test::RunProxygrasp;
 using ::testing::HasSubstr;
 
 std::string Level(const std::string& name) {
-  return std::string(PROXYGRASP_SOURCE_DIR) + "/levels/" + name;
+  return std::string(pg::test::SourceDir()) + "/levels/" + name;
 }
 
 std::string WriteTemp(const std::string& name, const std::string& text) {

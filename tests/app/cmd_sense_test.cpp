@@ -1,4 +1,5 @@
 #include "run_command.h"
+#include "test_paths.h"
 #include "udp_port.h"
 
 #include "proxygrasp/sensing/calibration.h"
@@ -194,14 +195,14 @@ TEST(SenseCommand, FramesOfTheWrongSizeAreReportedAndSkipped) {
 TEST(SenseCommand, LevelScriptIsInput) {
   // side push: one fingertip from (20, 23) towards (32, 23) over 1.5 s, then 1 s more
   const auto r =
-      RunProxygrasp("sense " + std::string(PROXYGRASP_SOURCE_DIR) + "/levels/side_push.toml");
+      RunProxygrasp("sense " + std::string(pg::test::SourceDir()) + "/levels/side_push.toml");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("{\"frame\": 0, \"contacts\": [{\"id\": 1, \"state\": \"new\", "
                                   "\"centroid\": [20.0"));
   EXPECT_THAT(r.output, HasSubstr("{\"frame\": 149, "));
   EXPECT_THAT(r.output, ::testing::Not(HasSubstr("{\"frame\": 150, ")));
   // --frames stops earlier, never later than the script's end
-  const auto longer = RunProxygrasp("sense " + std::string(PROXYGRASP_SOURCE_DIR) +
+  const auto longer = RunProxygrasp("sense " + std::string(pg::test::SourceDir()) +
                                     "/levels/side_push.toml --frames 400");
   ASSERT_EQ(longer.exitCode, 0) << longer.output;
   EXPECT_THAT(longer.output, HasSubstr("{\"frame\": 149, "));
@@ -220,7 +221,7 @@ TEST(SenseCommand, BadLevelFileExitsTwoWithLocation) {
 
 // ---- --tuio-out ----
 
-const std::string kReleaseLevel = std::string(PROXYGRASP_SOURCE_DIR) + "/levels/release.toml";
+const std::string kReleaseLevel = std::string(pg::test::SourceDir()) + "/levels/release.toml";
 
 // the ids of a JSON frame line's contacts that have not lifted
 std::vector<int64_t> LiveIds(const std::string& line) {

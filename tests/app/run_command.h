@@ -1,6 +1,8 @@
 // Runs the proxygrasp executable in tests and captures what it prints and its exit code.
 #pragma once
 
+#include "test_paths.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -19,7 +21,7 @@ struct CommandResult {
 /// Runs `proxygrasp <args>` through the shell; args are pasted as they are.
 inline CommandResult RunProxygrasp(const std::string& args) {
   CommandResult result;
-  const std::string command = std::string(PROXYGRASP_BIN) + " " + args + " 2>&1";
+  const std::string command = std::string(pg::test::ProxygraspBin()) + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return result;
   std::array<char, 4096> buffer;

@@ -3,6 +3,7 @@
 #include "proxygrasp/app/table_view.h"
 
 #include "pixels.h"
+#include "test_paths.h"
 
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/level/script.h"
@@ -20,7 +21,7 @@ using test::FindColor;
 // per-channel colour tolerance: antialiased edges blend, interiors are exact
 constexpr int kColorTolerance = 12;
 
-const std::string kLevel = std::string(PROXYGRASP_TESTDATA_DIR) + "/box_goal.toml";
+const std::string kLevel = std::string(pg::test::TestDataDir()) + "/box_goal.toml";
 
 Level LoadTestLevel() {
   Result<Level> level = LoadLevel(kLevel);

@@ -1,13 +1,7 @@
-proxygrasp_test(app main)
-proxygrasp_test(app cmd_params)
-proxygrasp_test(app cmd_run)
-proxygrasp_test(app cmd_sense LIBS pg_sensing)
-proxygrasp_test(app cmd_calibrate LIBS pg_sensing)
-proxygrasp_test(app cmd_tune LIBS pg_sensing)
-proxygrasp_test(app table_view)
-proxygrasp_test(app hand_input)
-proxygrasp_test(app video)
-# The window tests open an SDL2 window on Xvfb. Under the sanitizers they run with leak detection
+proxygrasp_tests(app
+  TESTS main cmd_params cmd_run cmd_sense cmd_calibrate cmd_tune table_view hand_input video cmd_bench)
+# The window tests (app_test.cpp and cmd_play_test.cpp, in their own executable because their
+# process environment differs) open an SDL2 window on Xvfb. Under the sanitizers they run with leak detection
 # on, with keep_loaded.cpp preloaded (libraries loaded at run time stay mapped, so their memory is
 # not reported as leaked when SDL unloads them, and a leak names its library) and the third-party
 # suppressions in lsan.supp. The preloaded library comes before the ASan runtime, hence
@@ -23,10 +17,7 @@ if(PROXYGRASP_SANITIZE)
       "ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:verify_asan_link_order=0"
       "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/app/lsan.supp:print_suppressions=0")
 endif()
-proxygrasp_test(app app ENVIRONMENT ${PROXYGRASP_WINDOW_TEST_ENV})
-proxygrasp_test(app cmd_play ENVIRONMENT ${PROXYGRASP_WINDOW_TEST_ENV})
+proxygrasp_tests(app TARGET test_app_window TESTS app cmd_play ENVIRONMENT ${PROXYGRASP_WINDOW_TEST_ENV})
 if(PROXYGRASP_SANITIZE)
-  add_dependencies(test_app_app pg_keep_loaded)
-  add_dependencies(test_app_cmd_play pg_keep_loaded)
+  add_dependencies(test_app_window pg_keep_loaded)
 endif()
-proxygrasp_test(app cmd_bench)

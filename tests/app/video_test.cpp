@@ -3,6 +3,7 @@
 #include "proxygrasp/app/video.h"
 
 #include "pixels.h"
+#include "test_paths.h"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -13,7 +14,7 @@
 namespace pg {
 namespace {
 
-const std::string kLevel = std::string(PROXYGRASP_TESTDATA_DIR) + "/box_goal.toml";
+const std::string kLevel = std::string(pg::test::TestDataDir()) + "/box_goal.toml";
 
 std::string TempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() /

@@ -1,5 +1,1 @@
-proxygrasp_test(core error)
-proxygrasp_test(core geometry)
-proxygrasp_test(core params)
-proxygrasp_test(core rng)
-proxygrasp_test(core text)
+proxygrasp_tests(core TESTS error geometry params rng text)

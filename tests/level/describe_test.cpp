@@ -1,3 +1,5 @@
+#include "test_paths.h"
+
 #include "proxygrasp/level/level.h"
 
 #include <gtest/gtest.h>
@@ -68,7 +70,7 @@ TEST(Describe, SizeKeysOfAShapeComeFromTheDescription) {
 
 // docs/levels.md, or "" when it cannot be read
 std::string LevelsDoc() {
-  std::ifstream in(std::string(PROXYGRASP_SOURCE_DIR) + "/docs/levels.md");
+  std::ifstream in(std::string(pg::test::SourceDir()) + "/docs/levels.md");
   std::stringstream buffer;
   buffer << in.rdbuf();
   return buffer.str();

@@ -1,5 +1,7 @@
 #include "proxygrasp/level/level.h"
 
+#include "test_paths.h"
+
 #include "proxygrasp/core/units.h"
 
 #include <gmock/gmock.h>
@@ -161,7 +163,7 @@ TEST(Level, AnEmptyFileIsAValidLevel) {
 
 TEST(Level, TheDocsExampleLoads) {
   // docs/levels.md ends with a complete example; it must stay a valid level
-  std::ifstream in(std::string(PROXYGRASP_SOURCE_DIR) + "/docs/levels.md");
+  std::ifstream in(std::string(pg::test::SourceDir()) + "/docs/levels.md");
   ASSERT_TRUE(in);
   std::stringstream buffer;
   buffer << in.rdbuf();
@@ -173,7 +175,7 @@ TEST(Level, TheDocsExampleLoads) {
   ASSERT_NE(e, std::string::npos);
   const std::string example = doc.substr(b + begin.size(), e - b - begin.size());
   const Result<Level> r =
-      ParseLevel(example, std::string(PROXYGRASP_SOURCE_DIR) + "/levels/example.toml");
+      ParseLevel(example, std::string(pg::test::SourceDir()) + "/levels/example.toml");
   ASSERT_TRUE(r.ok()) << r.error().Format();
   const Level& level = r.value();
   EXPECT_EQ(level.objects.size(), 2u);
@@ -186,7 +188,7 @@ TEST(Level, TheDocsExampleLoads) {
 
 TEST(Level, SharedBaseOfThePapersLevelsLoads) {
   const Result<Level> r =
-      LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) + "/levels/shared/base.toml");
+      LoadLevel(std::string(pg::test::SourceDir()) + "/levels/shared/base.toml");
   ASSERT_TRUE(r.ok()) << r.error().Format();
   EXPECT_TRUE(r.value().objects.empty());
 }

@@ -1,6 +1,8 @@
 // Shared by the level module's tests: loading a snippet and reading its first error.
 #pragma once
 
+#include "test_paths.h"
+
 #include "proxygrasp/level/level.h"
 
 #include <string>
@@ -9,7 +11,7 @@
 
 namespace pg::test {
 
-inline const std::string kData = PROXYGRASP_TESTDATA_DIR;
+inline const std::string kData = pg::test::TestDataDir();
 
 // the formatted error of loading text as "inline.toml", or "(loaded)" when it loads
 inline std::string ErrorOf(std::string_view text) {

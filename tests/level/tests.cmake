@@ -1,9 +1,2 @@
-proxygrasp_test(level params)
-proxygrasp_test(level describe)
-proxygrasp_test(level level)
-proxygrasp_test(level toml_reader)
-proxygrasp_test(level loader)
-proxygrasp_test(level read_objects)
-proxygrasp_test(level read_script)
-proxygrasp_test(level read_checks)
-proxygrasp_test(level script)
+proxygrasp_tests(level
+  TESTS params describe level toml_reader loader read_objects read_script read_checks script)

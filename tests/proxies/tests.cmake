@@ -1,4 +1,1 @@
-proxygrasp_test(proxies matching)
-proxygrasp_test(proxies proxy_stage)
-proxygrasp_test(proxies instant_proxies)
-proxygrasp_test(proxies params)
+proxygrasp_tests(proxies TESTS matching proxy_stage instant_proxies params)

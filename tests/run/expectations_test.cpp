@@ -1,5 +1,7 @@
 #include "proxygrasp/run/expectations.h"
 
+#include "test_paths.h"
+
 #include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/simulation.h"
 
@@ -16,7 +18,7 @@ namespace {
 using ::testing::HasSubstr;
 
 // the level test data: a level naming variants, modes and every kind of expectation
-const std::string kData = std::string(PROXYGRASP_SOURCE_DIR) + "/tests/level/testdata";
+const std::string kData = std::string(pg::test::SourceDir()) + "/tests/level/testdata";
 
 TEST(ExpectationText, ExpectationsDescribeThemselves) {
   const Result<Level> r = LoadLevel(kData + "/complete.toml");

@@ -1,5 +1,7 @@
 #include "proxygrasp/run/overrides.h"
 
+#include "test_paths.h"
+
 #include "proxygrasp/sensing/calibration.h"
 
 #include <gmock/gmock.h>
@@ -13,7 +15,7 @@ namespace {
 using ::testing::HasSubstr;
 
 // the level test data: a level naming variants, modes and every kind of expectation
-const std::string kData = std::string(PROXYGRASP_SOURCE_DIR) + "/tests/level/testdata";
+const std::string kData = std::string(pg::test::SourceDir()) + "/tests/level/testdata";
 
 TEST(Overrides, SetOverridesTheLevelAndEveryVariant) {
   Result<Level> r = LoadLevel(kData + "/complete.toml");

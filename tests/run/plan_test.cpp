@@ -1,5 +1,7 @@
 #include "proxygrasp/run/plan.h"
 
+#include "test_paths.h"
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -11,7 +13,7 @@ namespace {
 using ::testing::HasSubstr;
 
 // the level test data: a level naming variants, modes and every kind of expectation
-const std::string kData = std::string(PROXYGRASP_SOURCE_DIR) + "/tests/level/testdata";
+const std::string kData = std::string(pg::test::SourceDir()) + "/tests/level/testdata";
 
 TEST(LevelRuns, OneRunPerVariantAndModeTheExpectationsName) {
   const Result<Level> r = LoadLevel(kData + "/complete.toml");

@@ -1,5 +1,7 @@
 #include "proxygrasp/run/runner.h"
 
+#include "test_paths.h"
+
 #include "proxygrasp/run/trace.h"
 
 #include <gmock/gmock.h>
@@ -144,7 +146,7 @@ std::string FreshDir(const std::string& name) {
 
 TEST(Runner, TracesAreDeterministicAndMatchTheGoldenHash) {
   const Result<Level> level =
-      LoadLevel(std::string(PROXYGRASP_SOURCE_DIR) + "/levels/side_push.toml");
+      LoadLevel(std::string(pg::test::SourceDir()) + "/levels/side_push.toml");
   ASSERT_TRUE(level.ok()) << level.error().Format();
   RunOptions first;
   first.traceDir = FreshDir("pg_runner_golden_a");

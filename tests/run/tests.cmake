@@ -1,14 +1,3 @@
-proxygrasp_test(run simulation)
-proxygrasp_test(run frame_input)
-proxygrasp_test(run trace)
-proxygrasp_test(run expectations)
-proxygrasp_test(run plan)
-proxygrasp_test(run overrides)
-proxygrasp_test(run runner)
-proxygrasp_test(run recording)
-proxygrasp_test(run tuio_input)
-proxygrasp_test(run tuio_output)
-
 # every level in levels/ is a test, run through the same runner as `proxygrasp run`
 file(GLOB PROXYGRASP_LEVELS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/levels/*.toml)
 foreach(level_file ${PROXYGRASP_LEVELS})
@@ -16,6 +5,6 @@ foreach(level_file ${PROXYGRASP_LEVELS})
   add_test(NAME level.${level_name} COMMAND proxygrasp run ${level_file})
   set_tests_properties(level.${level_name} PROPERTIES LABELS "level;levels" TIMEOUT 300)
 endforeach()
-proxygrasp_test(run churn)
-proxygrasp_test(run bench)
-proxygrasp_test(run grasp_sweep)
+proxygrasp_tests(run
+  TESTS simulation frame_input trace expectations plan overrides runner recording tuio_input
+        tuio_output churn bench grasp_sweep)

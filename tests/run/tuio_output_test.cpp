@@ -1,5 +1,7 @@
 #include "proxygrasp/run/tuio_output.h"
 
+#include "test_paths.h"
+
 #include "proxygrasp/tuio/decoder.h"
 #include "proxygrasp/tuio/touchlib_xml.h"
 #include "proxygrasp/tuio/transport.h"
@@ -26,7 +28,7 @@ constexpr double kRoundTripTol = 0.05;  // cm
 constexpr double kWait = 3.0;
 
 // four fingertips squeeze two boxes; two lift at 1.6 s, the others at 3 s; 210 frames at 60 Hz
-const std::string kLevel = std::string(PROXYGRASP_SOURCE_DIR) + "/levels/release.toml";
+const std::string kLevel = std::string(pg::test::SourceDir()) + "/levels/release.toml";
 
 // a frame as the simulation tracked it
 struct SentContact {

@@ -2,6 +2,8 @@
 // (testdata/real_labels.txt), running the sensor over a clip, and scoring contacts against labels.
 #pragma once
 
+#include "test_paths.h"
+
 #include "proxygrasp/sensing/calibration.h"
 #include "proxygrasp/sensing/sensor.h"
 
@@ -58,8 +60,8 @@ struct LabelledClip {
 inline std::string RealDataDir() {
   std::vector<std::string> candidates;
   if (const char* env = std::getenv("PROXYGRASP_REAL_DATA")) candidates.push_back(env);
-  candidates.push_back(std::string(PROXYGRASP_SOURCE_DIR) + "/../shared/real");
-  candidates.push_back(std::string(PROXYGRASP_SOURCE_DIR) + "/../../shared/real");
+  candidates.push_back(std::string(pg::test::SourceDir()) + "/../shared/real");
+  candidates.push_back(std::string(pg::test::SourceDir()) + "/../../shared/real");
   for (const std::string& c : candidates)
     if (std::filesystem::is_directory(c)) return c;
   return "";

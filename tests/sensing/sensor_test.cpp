@@ -1,5 +1,7 @@
 #include "proxygrasp/sensing/sensor.h"
 
+#include "test_paths.h"
+
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 
@@ -1029,7 +1031,8 @@ struct RealData {
 RealData LoadReal() {
   RealData d;
   d.dir = real::RealDataDir();
-  if (!d.dir.empty()) d.clips = real::ReadLabels(PROXYGRASP_TESTDATA_DIR "/real_labels.txt");
+  if (!d.dir.empty())
+    d.clips = real::ReadLabels(std::string(pg::test::TestDataDir()) + "/real_labels.txt");
   return d;
 }
 constexpr const char* kNoRealData =

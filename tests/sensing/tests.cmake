@@ -1,8 +1,2 @@
-proxygrasp_test(sensing calibration)
-proxygrasp_test(sensing synthetic_camera)
-proxygrasp_test(sensing sensor)
-proxygrasp_test(sensing frame_source)
-proxygrasp_test(sensing recorder)
-proxygrasp_test(sensing calibrate)
-proxygrasp_test(sensing preview)
-proxygrasp_test(sensing tune)
+proxygrasp_tests(sensing
+  TESTS calibration synthetic_camera sensor frame_source recorder calibrate preview tune)

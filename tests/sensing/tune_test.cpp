@@ -1,5 +1,7 @@
 #include "proxygrasp/sensing/tune.h"
 
+#include "test_paths.h"
+
 #include "proxygrasp/sensing/synthetic_camera.h"
 
 #include <gmock/gmock.h>
@@ -210,7 +212,7 @@ TEST(RealFootage, TunedValuesFindTheLowContrastHandsOfT2) {
     GTEST_SKIP() << "../shared/real is absent (a clone of the project alone): no real footage to "
                     "test on; set PROXYGRASP_REAL_DATA to its folder";
   const std::vector<real::LabelledClip> clips =
-      real::ReadLabels(PROXYGRASP_TESTDATA_DIR "/real_labels.txt");
+      real::ReadLabels(std::string(pg::test::TestDataDir()) + "/real_labels.txt");
   const real::LabelledClip* t2 = nullptr;
   for (const real::LabelledClip& c : clips)
     if (c.path.find("t2.avi") != std::string::npos) t2 = &c;

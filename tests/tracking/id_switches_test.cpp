@@ -1,5 +1,7 @@
 #include "proxygrasp/tracking/id_switches.h"
 
+#include "test_paths.h"
+
 #include "proxygrasp/sensing/types.h"
 #include "proxygrasp/tracking/tracker.h"
 
@@ -174,8 +176,8 @@ Measured MeasureClip(const std::string& name, const IdSwitchParams& window = IdS
     m.skip = dir + "/" + name + " is absent on this machine: no id switches measured on it";
     return m;
   }
-  const std::vector<real::LabelledClip> clips =
-      real::ReadLabels(PROXYGRASP_SOURCE_DIR "/tests/sensing/testdata/real_labels.txt");
+  const std::vector<real::LabelledClip> clips = real::ReadLabels(
+      std::string(pg::test::SourceDir()) + "/tests/sensing/testdata/real_labels.txt");
   const real::LabelledClip* clip = nullptr;
   for (const real::LabelledClip& c : clips)
     if (c.path == name) clip = &c;

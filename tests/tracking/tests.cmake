@@ -1,2 +1,1 @@
-proxygrasp_test(tracking tracker)
-proxygrasp_test(tracking id_switches)
+proxygrasp_tests(tracking TESTS tracker id_switches)

@@ -1,5 +1,1 @@
-proxygrasp_test(tuio osc LIBS PkgConfig::LIBLO)
-proxygrasp_test(tuio decoder)
-proxygrasp_test(tuio encoder)
-proxygrasp_test(tuio transport)
-proxygrasp_test(tuio touchlib_xml)
+proxygrasp_tests(tuio TESTS osc decoder encoder transport touchlib_xml LIBS PkgConfig::LIBLO)
