@@ -1,9 +1,9 @@
 // `proxygrasp bench`: the standard scenes through the pipeline on pre-rendered frames, stage CPU
-// times and the baselines (issue 17; run/bench.h).
+// times and the baselines (issue 17; bench/bench.h).
 #include "commands.h"
 
-#include "proxygrasp/run/bench.h"
-#include "proxygrasp/run/grasp_sweep.h"
+#include "proxygrasp/bench/bench.h"
+#include "proxygrasp/bench/grasp_sweep.h"
 
 #include <fstream>
 #include <functional>

@@ -4,7 +4,7 @@
 
 #include "proxygrasp/app/app.h"
 #include "proxygrasp/app/video.h"
-#include "proxygrasp/run/bench.h"
+#include "proxygrasp/bench/bench.h"
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/runner.h"
 #include "proxygrasp/run/tuio_output.h"

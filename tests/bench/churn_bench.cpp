@@ -8,8 +8,8 @@
 //   build/release/bench_churn                      fast search (the default)
 //   build/release/bench_churn --algorithm=reference the paper's literal search, for comparison
 //   build/release/bench_churn --seed=N             another camera noise seed
+#include "proxygrasp/bench/churn.h"
 #include "proxygrasp/core/units.h"
-#include "proxygrasp/run/churn.h"
 
 #include <benchmark/benchmark.h>
 

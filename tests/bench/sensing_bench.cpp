@@ -1,7 +1,7 @@
 // Sensing plus tracking of one 640x480 frame: Sensor::Process + Tracker::Update on frames rendered
 // beforehand by the synthetic table camera. Targets (issue #3): <= 1 ms with ten fingertips, <= 1.5
 // ms with two flat hands, on one core. Run pinned: taskset -c 0 build/release/bench_sensing
-#include "proxygrasp/run/bench.h"
+#include "proxygrasp/bench/bench.h"
 #include "proxygrasp/sensing/sensor.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 #include "proxygrasp/tracking/tracker.h"
@@ -118,7 +118,7 @@ BENCHMARK(BM_RenderClearTable)->Unit(benchmark::kMicrosecond)->MeasureProcessCPU
 // The filter chain of issue 14 side by side: the whole sensing stage (Sensor::Step with the
 // default chain: background subtraction, smoothing, high-pass, gain, threshold, opening, contours,
 // sub-pixel edges, table mapping, resampling, background learning) against the same filters as
-// bare OpenCV calls ending at findContours (BareSensingChain, run/bench.h). Target: the sensing
+// bare OpenCV calls ending at findContours (BareSensingChain, bench/bench.h). Target: the sensing
 // stage within 1.5x of the bare chain. Both run the default parameters.
 
 void BM_ChainSensingStage(benchmark::State& state) {

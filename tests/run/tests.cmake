@@ -7,4 +7,4 @@ foreach(level_file ${PROXYGRASP_LEVELS})
 endforeach()
 proxygrasp_tests(run
   TESTS simulation frame_input trace expectations plan overrides runner recording tuio_input
-        tuio_output churn bench grasp_sweep)
+        tuio_output)

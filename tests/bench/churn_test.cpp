@@ -1,4 +1,4 @@
-#include "proxygrasp/run/churn.h"
+#include "proxygrasp/bench/churn.h"
 
 #include "proxygrasp/core/geometry.h"
 #include "proxygrasp/core/units.h"

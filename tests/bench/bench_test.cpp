@@ -1,4 +1,4 @@
-#include "proxygrasp/run/bench.h"
+#include "proxygrasp/bench/bench.h"
 
 #include "proxygrasp/sensing/synthetic_camera.h"
 

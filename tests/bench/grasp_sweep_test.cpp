@@ -1,4 +1,4 @@
-#include "proxygrasp/run/grasp_sweep.h"
+#include "proxygrasp/bench/grasp_sweep.h"
 
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/level/level.h"

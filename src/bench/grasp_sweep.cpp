@@ -1,6 +1,6 @@
 // The grasp sweep: scene generation, the analytic hold rule, running and scoring
-// (run/grasp_sweep.h; the rule's derivation is in docs/physics.md, "Grasp sweep").
-#include "proxygrasp/run/grasp_sweep.h"
+// (bench/grasp_sweep.h; the rule's derivation is in docs/physics.md, "Grasp sweep").
+#include "proxygrasp/bench/grasp_sweep.h"
 
 #include "proxygrasp/core/rng.h"
 #include "proxygrasp/core/units.h"

@@ -1,4 +1,4 @@
-#include "proxygrasp/run/bench.h"
+#include "proxygrasp/bench/bench.h"
 
 #include "proxygrasp/core/timer.h"
 #include "proxygrasp/core/units.h"
