@@ -76,7 +76,14 @@ std::string FrameJson(int64_t index, const ContactSet& set) {
     const Contact& c = set.contacts[i];
     if (i) out += ", ";
     out += "{\"id\": " + std::to_string(c.id) + ", \"state\": \"" +
-           kContactStateNames[static_cast<int>(c.state)] + "\", \"centroid\": [";
+           kContactStateNames[static_cast<int>(c.state)] + "\", \"parents\": [";
+    for (size_t k = 0; k < c.parents.size(); ++k) {
+      if (k) out += ", ";
+      out += std::to_string(c.parents[k]);
+    }
+    out += "]";
+    if (c.mergedInto != kNoId) out += ", \"merged_into\": " + std::to_string(c.mergedInto);
+    out += ", \"centroid\": [";
     AppendNumber(out, c.blob.centroid.x());
     out += ", ";
     AppendNumber(out, c.blob.centroid.y());
@@ -93,7 +100,8 @@ std::string FrameJson(int64_t index, const ContactSet& set) {
     }
     out += "]}";
   }
-  out += "]}";
+  out += "], \"merges\": " + std::to_string(set.merges) +
+         ", \"splits\": " + std::to_string(set.splits) + "}";
   return out;
 }
 

@@ -203,6 +203,8 @@ void Simulation::ProcessContours(FrameStats& stats, double senseMs, const Contac
   for (const Contact& c : m_contacts.contacts) {
     if (c.state != ContactState::kLifted) ++stats.contacts;
   }
+  stats.merges = m_contacts.merges;
+  stats.splits = m_contacts.splits;
   stats.particles = m_world.ParticleCount();
   stats.created = m_plan.created;
   stats.deleted = m_plan.deleted;

@@ -31,7 +31,8 @@ std::string ObjectRows(const Simulation& sim) {
 
 std::string FrameRow(const FrameStats& f, double t) {
   return std::to_string(f.frame) + "," + FormatFixed(t, 6) + "," + std::to_string(f.contacts) +
-         "," + std::to_string(f.particles) + "," + std::to_string(f.created) + "," +
+         "," + std::to_string(f.merges) + "," + std::to_string(f.splits) + "," +
+         std::to_string(f.particles) + "," + std::to_string(f.created) + "," +
          std::to_string(f.deleted) + "," + std::to_string(f.bodies) + "," +
          FormatFixed(f.senseMs, 4) + "," + FormatFixed(f.trackMs, 4) + "," +
          FormatFixed(f.proxyMs, 4) + "," + FormatFixed(f.physicsMs, 4) + "," +

@@ -50,7 +50,7 @@ ContactSet TuioTracker::Step(const TuioFrame* frame, double spacing) {
   if (!frame) {
     // nothing arrived: every live contact holds its last shape
     for (const auto& [session, live] : m_live)
-      out.contacts.push_back({live.id, ContactState::kContinuing, live.blob});
+      out.contacts.push_back({live.id, ContactState::kContinuing, live.blob, 0, {live.id}});
     return out;
   }
 
@@ -61,8 +61,14 @@ ContactSet TuioTracker::Step(const TuioFrame* frame, double spacing) {
     const bool fresh = it == m_live.end();
     if (fresh) it = m_live.emplace(c.id, Live{NewId(c.id), Blob()}).first;
     it->second.blob = BlobFromOutline(c.contour, spacing);
-    out.contacts.push_back(
-        {it->second.id, fresh ? ContactState::kNew : ContactState::kContinuing, it->second.blob});
+    // TUIO says nothing of merges and splits: a session continues itself or is new
+    Contact contact{it->second.id,
+                    fresh ? ContactState::kNew : ContactState::kContinuing,
+                    it->second.blob,
+                    0,
+                    {}};
+    if (!fresh) contact.parents.push_back(contact.id);
+    out.contacts.push_back(std::move(contact));
   }
   // lifted: named in the frame's lifted list, or simply no longer listed
   for (auto it = m_live.begin(); it != m_live.end();) {
@@ -70,7 +76,8 @@ ContactSet TuioTracker::Step(const TuioFrame* frame, double spacing) {
       ++it;
       continue;
     }
-    out.contacts.push_back({it->second.id, ContactState::kLifted, std::move(it->second.blob)});
+    out.contacts.push_back(
+        {it->second.id, ContactState::kLifted, std::move(it->second.blob), 0, {}});
     it = m_live.erase(it);
   }
   return out;

@@ -12,6 +12,10 @@ void Describe(TrackingParams& p, ParamVisitor& v) {
   v.Integer("keep_lost", p.keepLost, 0, 60, "frames",
             "frames a contact whose blob is gone continues where it was last seen before it is "
             "lifted (a blob that drops out for a frame or two keeps its id)");
+  v.Real("merge_margin", p.mergeMargin, 0, 10, "cm",
+         "an unmatched contact merged into a blob (a new blob split off a contact) when half its "
+         "contour, moved on by its velocity, lies within this of the other's outline or inside "
+         "it; grows by a quarter of the contact's travel between frames");
 }
 
 }  // namespace pg

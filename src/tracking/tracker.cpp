@@ -5,6 +5,34 @@
 #include <algorithm>
 
 namespace pg {
+namespace {
+
+// a contour that lies at least this much within a blob (as a fraction of its points) came from it
+// or went into it
+constexpr double kMinCoverage = 0.5;
+// how much of the distance a contact's last velocity carries it between frames is uncertain
+constexpr double kVelocityUncertainty = 0.25;
+
+// the fraction of the points of `points`, moved by `shift`, that lie inside the blob's outline or
+// within `margin` of it
+double Coverage(const Contour& points, const Vec2& shift, const Blob& blob, double margin) {
+  const Eigen::Index n = points.cols();
+  if (n == 0 || blob.contour.cols() < 3) return 0.0;
+  // the bounds from the outline itself: a blob made by hand may not carry them
+  const Vec2 lo = Vec2(blob.contour.rowwise().minCoeff()) - Vec2(margin, margin);
+  const Vec2 hi = Vec2(blob.contour.rowwise().maxCoeff()) + Vec2(margin, margin);
+  int covered = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Vec2 p = points.col(k) + shift;
+    if (p.x() < lo.x() || p.y() < lo.y() || p.x() > hi.x() || p.y() > hi.y()) continue;
+    if (PointInPolygon(blob.contour, p) || DistanceToBoundary(blob.contour, p) <= margin) {
+      ++covered;
+    }
+  }
+  return static_cast<double>(covered) / static_cast<double>(n);
+}
+
+}  // namespace
 
 MaybeError Tracker::SetParams(const TrackingParams& params) {
   if (MaybeError s = CheckDescribed("tracking", params)) return s;
@@ -50,35 +78,112 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
     blobToPrev[c.blob] = c.previous;
   }
 
+  // Topology. Each previous contact's last blob is moved on by its velocity to where it should be
+  // now; an unmatched previous contact whose moved contour lies mostly within a blob merged into
+  // it, and an unmatched blob whose contour lies mostly within a previous contact's moved blob
+  // split off it.
+  std::vector<Vec2> shift(nPrev, Vec2::Zero());
+  std::vector<double> margin(nPrev, params.mergeMargin);
+  for (int i = 0; i < nPrev; ++i) {
+    const double interval = std::max(0.0, frame.time - m_seen[i]);
+    shift[i] = m_velocity[i] * interval;
+    margin[i] += kVelocityUncertainty * shift[i].norm();
+  }
+  std::vector<int> mergedTo(nPrev, -1);
+  for (int i = 0; i < nPrev; ++i) {
+    if (prevTaken[i]) continue;
+    double best = kMinCoverage;
+    for (int j = 0; j < nBlobs; ++j) {
+      // a blob no contact continues is farther than the reach from this one (they would have
+      // been paired): a new contact, not a merge
+      if (blobToPrev[j] < 0) continue;
+      const double c = Coverage(m_current[i].blob.contour, shift[i], frame.blobs[j], margin[i]);
+      if (c >= best) {
+        best = c;
+        mergedTo[i] = j;
+      }
+    }
+  }
+  std::vector<int> splitFrom(nBlobs, -1);
+  for (int j = 0; j < nBlobs; ++j) {
+    if (blobToPrev[j] >= 0) continue;
+    double best = kMinCoverage;
+    for (int i = 0; i < nPrev; ++i) {
+      const double c = Coverage(frame.blobs[j].contour, -shift[i], m_current[i].blob, margin[i]);
+      if (c >= best) {
+        best = c;
+        splitFrom[j] = i;
+      }
+    }
+  }
+
   // current contacts in blob order (largest first), continuing or new
   std::vector<Contact> next;
   std::vector<double> seen;
+  std::vector<Vec2> velocity;
   next.reserve(nBlobs);
   seen.reserve(nBlobs);
+  velocity.reserve(nBlobs);
+  std::vector<int> children(nPrev, 0);
   for (int j = 0; j < nBlobs; ++j) {
     Contact c;
+    Vec2 v = Vec2::Zero();
     if (blobToPrev[j] >= 0) {
-      c.id = m_current[blobToPrev[j]].id;
+      const int i = blobToPrev[j];
+      c.id = m_current[i].id;
       c.state = ContactState::kContinuing;
+      c.parents.push_back(c.id);
+      ++children[i];
+      const double interval = frame.time - m_seen[i];
+      v = interval > 0.0 ? Vec2((frame.blobs[j].centroid - m_current[i].blob.centroid) / interval)
+                         : m_velocity[i];
     } else {
       c.id = m_ids.Next();
       c.state = ContactState::kNew;
+      if (splitFrom[j] >= 0) {
+        c.parents.push_back(m_current[splitFrom[j]].id);
+        ++children[splitFrom[j]];
+        v = m_velocity[splitFrom[j]];
+      }
     }
     c.blob = frame.blobs[j];
     next.push_back(std::move(c));
     seen.push_back(frame.time);
+    velocity.push_back(v);
+  }
+  for (int i = 0; i < nPrev; ++i) {
+    if (mergedTo[i] >= 0) next[mergedTo[i]].parents.push_back(m_current[i].id);
+  }
+  // a centroid jumps when blobs join or part: the contacts of such an event keep the velocity
+  // of the contact they continue rather than the jump
+  for (int j = 0; j < nBlobs; ++j) {
+    Contact& c = next[j];
+    if (c.parents.size() > 1) ++out.merges;
+    const int i = blobToPrev[j];
+    if (i >= 0 && (c.parents.size() > 1 || children[i] > 1)) velocity[j] = m_velocity[i];
+  }
+  for (int i = 0; i < nPrev; ++i) {
+    if (children[i] > 1) ++out.splits;
   }
   // unmatched contacts continue where they were last seen for keep_lost frames (a blob that
-  // drops out for a frame or two keeps its id and its particles); then they are lifted
+  // drops out for a frame or two keeps its id and its particles); then they are lifted. A
+  // contact that merged into a blob is lifted at once, into it.
   std::vector<Contact> lifted;
   for (int i = 0; i < nPrev; ++i) {
     if (prevTaken[i]) continue;
     Contact c = std::move(m_current[i]);
-    if (c.missed < params.keepLost) {
+    c.parents.clear();
+    if (mergedTo[i] >= 0) {
+      c.state = ContactState::kLifted;
+      c.mergedInto = next[mergedTo[i]].id;
+      lifted.push_back(std::move(c));
+    } else if (c.missed < params.keepLost) {
       c.state = ContactState::kContinuing;
+      c.parents.push_back(c.id);
       ++c.missed;
       next.push_back(std::move(c));
       seen.push_back(m_seen[i]);
+      velocity.push_back(m_velocity[i]);
     } else {
       c.state = ContactState::kLifted;
       lifted.push_back(std::move(c));
@@ -89,12 +194,14 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
   for (Contact& c : lifted) out.contacts.push_back(std::move(c));
   m_current = std::move(next);
   m_seen = std::move(seen);
+  m_velocity = std::move(velocity);
   return out;
 }
 
 void Tracker::Reset() {
   m_current.clear();
   m_seen.clear();
+  m_velocity.clear();
 }
 
 }  // namespace pg

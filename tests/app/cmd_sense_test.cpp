@@ -85,7 +85,7 @@ TEST(SenseCommand, SyntheticFingersPrintOneJsonObjectPerFrame) {
         << lines[i].substr(0, 80);
     EXPECT_EQ(lines[i].back(), '}');
   }
-  EXPECT_EQ(lines[4], "{\"frame\": 4, \"contacts\": []}");
+  EXPECT_EQ(lines[4], "{\"frame\": 4, \"contacts\": [], \"merges\": 0, \"splits\": 0}");
   EXPECT_EQ(Count(lines[5], "\"state\": \"new\""), 10);
   EXPECT_EQ(Count(lines[8], "\"state\": \"continuing\""), 10);
   EXPECT_EQ(Count(lines[8], "\"id\": "), 10);
@@ -136,7 +136,7 @@ TEST(SenseCommand, FolderOfImagesAndCalibrationFile) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const std::vector<std::string> lines = Lines(r.output);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[0], "{\"frame\": 0, \"contacts\": []}");
+  EXPECT_EQ(lines[0], "{\"frame\": 0, \"contacts\": [], \"merges\": 0, \"splits\": 0}");
   // the disc's centre within 0.05 cm (half a pixel)
   const Vec2 calibrated = Centroid(lines[3]);
   EXPECT_LT((calibrated - finger.pose.pos).norm(), 0.05) << lines[3].substr(0, 200);
@@ -188,8 +188,10 @@ TEST(SenseCommand, FramesOfTheWrongSizeAreReportedAndSkipped) {
   const auto r = RunProxygrasp("sense " + dir);
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_THAT(r.output, HasSubstr("frame 1: frame is 320x240, expected 640x480"));
-  EXPECT_THAT(r.output, HasSubstr("{\"frame\": 0, \"contacts\": []}"));
-  EXPECT_THAT(r.output, HasSubstr("{\"frame\": 2, \"contacts\": []}"));
+  EXPECT_THAT(r.output,
+              HasSubstr("{\"frame\": 0, \"contacts\": [], \"merges\": 0, \"splits\": 0}"));
+  EXPECT_THAT(r.output,
+              HasSubstr("{\"frame\": 2, \"contacts\": [], \"merges\": 0, \"splits\": 0}"));
 }
 
 TEST(SenseCommand, LevelScriptIsInput) {
@@ -198,7 +200,7 @@ TEST(SenseCommand, LevelScriptIsInput) {
       RunProxygrasp("sense " + std::string(pg::test::SourceDir()) + "/levels/side_push.toml");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("{\"frame\": 0, \"contacts\": [{\"id\": 1, \"state\": \"new\", "
-                                  "\"centroid\": [20.0"));
+                                  "\"parents\": [], \"centroid\": [20.0"));
   EXPECT_THAT(r.output, HasSubstr("{\"frame\": 149, "));
   EXPECT_THAT(r.output, ::testing::Not(HasSubstr("{\"frame\": 150, ")));
   // --frames stops earlier, never later than the script's end

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -24,6 +25,38 @@ Blob BlobAt(double x, double y, double area = 2.0) {
   b.boundsMin = b.centroid - Vec2(r, r);
   b.boundsMax = b.centroid + Vec2(r, r);
   return b;
+}
+
+// the outline of two overlapping discs (or of one disc when r2 is 0), counter-clockwise: each
+// circle's points outside the other, in angle order about the union's middle
+Blob UnionBlob(Vec2 c1, double r1, Vec2 c2, double r2) {
+  std::vector<std::pair<double, Vec2>> points;
+  const Vec2 middle = 0.5 * (c1 + c2);
+  const int kPoints = 48;
+  for (int k = 0; k < kPoints; ++k) {
+    const double a = 2.0 * kPi * k / kPoints;
+    const Vec2 dir(std::cos(a), std::sin(a));
+    const Vec2 p1 = c1 + r1 * dir;
+    const Vec2 p2 = c2 + r2 * dir;
+    if (r2 <= 0.0 || (p1 - c2).norm() >= r2) points.push_back({0.0, p1});
+    if (r2 > 0.0 && (p2 - c1).norm() >= r1) points.push_back({0.0, p2});
+  }
+  for (auto& [angle, p] : points) angle = std::atan2(p.y() - middle.y(), p.x() - middle.x());
+  std::sort(points.begin(), points.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  Blob b;
+  b.contour = Contour(2, static_cast<Eigen::Index>(points.size()));
+  for (size_t k = 0; k < points.size(); ++k)
+    b.contour.col(static_cast<Eigen::Index>(k)) = points[k].second;
+  b.centroid = PolygonCentroid(b.contour);
+  b.area = std::abs(SignedArea(b.contour));
+  b.boundsMin = b.contour.rowwise().minCoeff();
+  b.boundsMax = b.contour.rowwise().maxCoeff();
+  return b;
+}
+
+Blob Disc(Vec2 c, double r) {
+  return UnionBlob(c, r, c, 0.0);
 }
 
 ContourFrame Frame(int64_t index, std::vector<Blob> blobs) {
@@ -240,6 +273,116 @@ TEST(Tracker, IdsAreNeverReused) {
   EXPECT_EQ(after.contacts[0].id, 11) << "Reset forgets contacts, not the id counter";
 }
 
+TEST(TrackerTopology, TwoFingertipsThatTouchMergeAndTheMergedContactHasBothAsParents) {
+  // two fingertips 0.9 cm in radius, 2 cm apart (centres), slide together 0.1 cm per frame each
+  // until their discs overlap: one blob
+  Tracker t;
+  StepWith(t, TrackingParams{}, Frame(0, {Disc({10, 10}, 0.9), Disc({12, 10}, 0.9)}));
+  StepWith(t, TrackingParams{}, Frame(1, {Disc({10.1, 10}, 0.9), Disc({11.9, 10}, 0.9)}));
+  const ContactSet s =
+      StepWith(t, TrackingParams{}, Frame(2, {UnionBlob({10.2, 10}, 0.9, {11.8, 10}, 0.9)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  const Contact& merged = s.contacts[0];
+  EXPECT_EQ(merged.state, ContactState::kContinuing);
+  ASSERT_EQ(merged.parents.size(), 2u);
+  EXPECT_EQ(merged.parents[0], merged.id) << "a continuing contact's own id comes first";
+  const Contact& other = s.contacts[1];
+  EXPECT_EQ(other.state, ContactState::kLifted);
+  EXPECT_EQ(other.mergedInto, merged.id) << "lifted into the merged contact, not kept lost";
+  EXPECT_EQ(merged.parents[1], other.id);
+  EXPECT_TRUE(other.parents.empty());
+  EXPECT_EQ(s.merges, 1);
+  EXPECT_EQ(s.splits, 0);
+}
+
+TEST(TrackerTopology, ABlobThatPartsSplitsAndTheNewPieceHasItsParent) {
+  Tracker t;
+  StepWith(t, TrackingParams{}, Frame(0, {UnionBlob({10.2, 10}, 0.9, {11.8, 10}, 0.9)}));
+  const ContactSet s =
+      StepWith(t, TrackingParams{}, Frame(1, {Disc({10.1, 10}, 0.9), Disc({11.9, 10}, 0.9)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  // the pieces are equally near the merged centroid: either may continue it
+  const int kept = s.contacts[0].state == ContactState::kContinuing ? 0 : 1;
+  const Contact& continuing = s.contacts[kept];
+  const Contact& piece = s.contacts[1 - kept];
+  EXPECT_EQ(continuing.state, ContactState::kContinuing);
+  EXPECT_EQ(piece.state, ContactState::kNew);
+  ASSERT_EQ(continuing.parents.size(), 1u);
+  ASSERT_EQ(piece.parents.size(), 1u);
+  EXPECT_EQ(continuing.parents[0], continuing.id);
+  EXPECT_EQ(piece.parents[0], continuing.id) << "split off the continuing contact";
+  EXPECT_EQ(s.merges, 0);
+  EXPECT_EQ(s.splits, 1);
+}
+
+TEST(TrackerTopology, AFingerPutDownBesideAnotherIsNewWithNoParent) {
+  // a fingertip lands 0.5 cm from another's outline: its outline is nowhere within 0.3 cm of the
+  // first's, so nothing split
+  Tracker t;
+  StepWith(t, TrackingParams{}, Frame(0, {Disc({10, 10}, 0.9)}));
+  const ContactSet s =
+      StepWith(t, TrackingParams{}, Frame(1, {Disc({10, 10}, 0.9), Disc({12.3, 10}, 0.9)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[1].state, ContactState::kNew);
+  EXPECT_TRUE(s.contacts[1].parents.empty());
+  EXPECT_EQ(s.splits, 0);
+}
+
+TEST(TrackerTopology, AContactThatDropsOutBesideAnotherIsKeptLostNotMerged) {
+  // a fingertip's blob vanishes (below the threshold) 1.5 cm from another's outline
+  Tracker t;
+  StepWith(t, TrackingParams{}, Frame(0, {Disc({10, 10}, 0.9), Disc({13.3, 10}, 0.9)}));
+  const ContactSet s = StepWith(t, TrackingParams{}, Frame(1, {Disc({10, 10}, 0.9)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[1].state, ContactState::kContinuing);
+  EXPECT_EQ(s.contacts[1].missed, 1);
+  EXPECT_EQ(s.contacts[0].parents.size(), 1u);
+  EXPECT_EQ(s.merges, 0);
+}
+
+// Two fingertips closing at speed v each (2v together) meet within a frame at any frame rate the
+// tracker supports: their last contours lie v dt behind where the merged blob has them, and are
+// found inside it once moved on by their velocities.
+class TrackerTopologySpeed : public ::testing::TestWithParam<std::tuple<double, double>> {};
+
+TEST_P(TrackerTopologySpeed, MergeAndSplitAreFoundAtSpeed) {
+  const auto [rate, speed] = GetParam();
+  Tracker t;
+  const double dt = 1.0 / rate;
+  const double r = 0.9;
+  // the fingertips move together (both at `speed` along y, across the line between them) while
+  // the gap between them closes by 0.2 cm a frame: the merged blob appears where the contacts'
+  // velocity carried them, up to v dt from their last contours
+  auto centres = [&](int k) {
+    const double y = 10.0 + speed * dt * k;
+    const double gap = 0.4 - 0.2 * k;  // between the outlines, cm: 0.4, 0.2, 0, -0.2 ...
+    return std::pair<Vec2, Vec2>{{10 - r - 0.5 * gap, y}, {10 + r + 0.5 * gap, y}};
+  };
+  ContactSet s;
+  for (int k = 0; k < 4; ++k) {
+    const auto [a, b] = centres(k);
+    ContourFrame f = Frame(k, k < 3 ? std::vector<Blob>{Disc(a, r), Disc(b, r)}
+                                    : std::vector<Blob>{UnionBlob(a, r, b, r)});
+    f.time = k * dt;
+    s = t.Step(f);
+  }
+  EXPECT_EQ(s.merges, 1) << rate << " fps, " << speed << " cm/s";
+  // and apart again, still moving
+  for (int k = 4; k < 6; ++k) {
+    const double y = 10.0 + speed * dt * k;
+    ContourFrame f = Frame(k, {Disc({10 - r - 0.1, y}, r), Disc({10 + r + 0.1, y}, r)});
+    f.time = k * dt;
+    s = t.Step(f);
+    if (k == 4) {
+      EXPECT_EQ(s.splits, 1) << rate << " fps, " << speed << " cm/s";
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(RatesAndSpeeds, TrackerTopologySpeed,
+                         ::testing::Combine(::testing::Values(20.0, 30.0, 60.0),
+                                            ::testing::Values(0.0, 30.0, 100.0)));
+
 // the acceptance scenarios through the real pipeline: synthetic camera -> sensor -> tracker
 
 struct Pipeline {
@@ -383,6 +526,9 @@ TEST(TrackerPipeline, FingersMergingAndSplitting) {
       EXPECT_EQ(s.contacts[0].id, idsBefore[0]);
       EXPECT_EQ(s.contacts[1].state, ContactState::kLifted);
       EXPECT_EQ(s.contacts[1].id, idsBefore[1]);
+      EXPECT_EQ(s.contacts[1].mergedInto, s.contacts[0].id) << "the smaller merged into it";
+      EXPECT_EQ(s.contacts[0].parents, (std::vector<ContactId>{idsBefore[0], idsBefore[1]}));
+      EXPECT_EQ(s.merges, 1);
       mergedId = s.contacts[0].id;
     }
     if (sawMerge && current == 2 && !sawSplit) {
@@ -392,6 +538,8 @@ TEST(TrackerPipeline, FingersMergingAndSplitting) {
       EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
       EXPECT_EQ(s.contacts[1].state, ContactState::kNew);
       EXPECT_GT(s.contacts[1].id, idsBefore[1]);
+      EXPECT_EQ(s.contacts[1].parents, std::vector<ContactId>{mergedId}) << "split off it";
+      EXPECT_EQ(s.splits, 1);
     }
   }
   EXPECT_TRUE(sawMerge);

@@ -30,6 +30,8 @@ struct FrameStats {
   int64_t frame = 0;     ///< frame number from 0
   double time = 0.0;     ///< s, at the start of the frame
   int contacts = 0;      ///< current (not lifted) contacts
+  int merges = 0;        ///< contacts that several of the last frame's merged into (tracking)
+  int splits = 0;        ///< last frame's contacts that split into several (tracking)
   int particles = 0;     ///< live particle stacks after the frame
   int created = 0;       ///< particles created this frame
   int deleted = 0;       ///< particles deleted this frame

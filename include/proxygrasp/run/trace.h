@@ -20,7 +20,8 @@ inline constexpr const char* kObjectsCsvHeader =
     "frame,t,object,x,y,angle_deg,vx,vy,omega_deg_s,held";
 /// The frames.csv header line (without newline).
 inline constexpr const char* kFramesCsvHeader =
-    "frame,t,contacts,particles,created,deleted,bodies,sense_ms,track_ms,proxy_ms,physics_ms,"
+    "frame,t,contacts,merges,splits,particles,created,deleted,bodies,sense_ms,track_ms,proxy_ms,"
+    "physics_ms,"
     "total_ms";
 
 /// Where a recording's trace goes: the file's path without its extension plus "_trace"

@@ -31,6 +31,12 @@ class Tracker {
   /// id). An unmatched contact goes on where it was last seen, continuing with `missed` counting
   /// up, for params.keepLost frames; then it is lifted and listed once, with its last blob,
   /// after the current and kept contacts.
+  /// Topology (Contact::parents, Contact::mergedInto): every contact's last blob is moved on by
+  /// its centroid velocity. An unmatched contact whose moved contour lies at least half inside a
+  /// blob that continues another contact (or within params.mergeMargin of it) merged into that
+  /// blob: it is lifted at once, with mergedInto set, and is a parent of the blob's contact. An
+  /// unmatched blob whose contour lies at least half within a
+  /// previous contact's moved blob split off it: it is new, with that contact as its parent.
   ContactSet Step(const ContourFrame& frame);
 
   /// Forgets all contacts (the next frame's blobs are all new). Ids keep counting up.
@@ -49,6 +55,7 @@ class Tracker {
   TrackingParams m_params;
   std::vector<Contact> m_current;  // on the table, and those kept after they were last seen
   std::vector<double> m_seen;      // frame.time each of m_current was last seen, s
+  std::vector<Vec2> m_velocity;    // each of m_current's centroid velocity, cm/s
   IdCounter m_ids;
   std::vector<Candidate> m_candidates;  // scratch
 };

@@ -22,6 +22,14 @@ struct Contact {
   /// frames the contact has gone on without a blob of its own (tracking.keep_lost), its blob
   /// being the last one seen; for a lifted contact, the frames it went on so before it lifted
   int missed = 0;
+  /// The last frame's contacts this one came from (topology): a continuing contact's own id
+  /// first, then those that merged into it this frame; a piece split off another contact this
+  /// frame (state new) has that contact's id; empty for a contact that is new on the table. A
+  /// lifted contact has none.
+  std::vector<ContactId> parents;
+  /// lifted: the contact it merged into this frame (its blob joined that one's), or kNoId when it
+  /// left the table
+  ContactId mergedInto = kNoId;
 };
 
 /// The output of the tracking stage for one frame: current contacts, then those lifted this frame.
@@ -29,6 +37,8 @@ struct ContactSet {
   int64_t frame = 0;  ///< frame number from 0
   double time = 0.0;  ///< s
   std::vector<Contact> contacts;
+  int merges = 0;  ///< current contacts with more than one parent (several blobs became one)
+  int splits = 0;  ///< last frame's contacts that are the parent of more than one current one
 };
 
 /// Parameters of frame-to-frame association. Section [tracking] of a level.
@@ -43,6 +53,13 @@ struct TrackingParams {
   /// (0: lifted in the first frame without it): a blob that drops out for a frame or two, below
   /// the threshold or min_area, keeps its id and its particles; a lift is reported this late
   int keepLost = 3;
+  /// Topology: a contact of the last frame whose blob is not matched this frame merged into a
+  /// blob when at least half its last contour, moved on by its last velocity, lies inside that
+  /// blob or within this margin of it; a new blob split off a contact of the last frame when at
+  /// least half its contour lies so within that contact's moved blob. The margin grows by a
+  /// quarter of the distance the contact's velocity carries it between the frames (its
+  /// uncertainty), cm
+  double mergeMargin = 0.3;
 };
 
 void Describe(TrackingParams& p, ParamVisitor& v);
