@@ -9,6 +9,7 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <tuple>
 #include <unordered_set>
 
 namespace pg {
@@ -64,6 +65,10 @@ Pose2 RigidMotion(const Contour& prev, const Contour& cur) {
   }
   return Pose2{centroidCur - Rotate(centroidPrev, angle), angle};
 }
+
+// how many contour samples from its successor a handed-over point whose successor was taken may
+// move to a free one
+constexpr int kFillReach = 2;
 
 // how many contour samples on either side of its match a reused particle's target may move to:
 // a match lags sub-sample motion by up to a sample or two where the contour runs along the motion
@@ -226,8 +231,17 @@ void ProxyStage::FindGripTurns(const ContactSet& contacts, const SceneQuery& sce
   };
   std::map<ObjectId, std::vector<Member>> grips;
   m_gripTurn.clear();
+  // a contact in a merge or split jumps with its outline: its centroid shows no motion of the
+  // hand (its parents and children are the ones with more than one relative)
+  std::unordered_map<ContactId, int> relatives;
+  for (const Contact& contact : contacts.contacts) {
+    if (contact.state == ContactState::kLifted) continue;
+    for (const ContactId p : contact.parents) ++relatives[p];
+    if (contact.parents.size() > 1) relatives[contact.id] += 2;
+  }
   for (const Contact& contact : contacts.contacts) {
     if (contact.state != ContactState::kContinuing) continue;
+    if (const auto r = relatives.find(contact.id); r != relatives.end() && r->second > 1) continue;
     const auto it = m_tracks.find(contact.id);
     const Contour& cur = contact.blob.contour;
     if (it == m_tracks.end() || it->second.contour.cols() == 0 || cur.cols() == 0) continue;
@@ -271,8 +285,16 @@ void ProxyStage::Persistent(const ProxyParams& params, const ContactSet& contact
   for (const Contact& contact : contacts.contacts) {
     if (contact.state != ContactState::kLifted) current.insert(contact.id);
   }
+  // merges and splits first: their contacts take over the particles of every contact they came
+  // from, which are then no longer there to be lifted
+  std::unordered_set<ContactId> handed;
+  HandOver(params, contacts, scene, plan, handed);
   std::unordered_set<ContactId> seen;
   for (const Contact& contact : contacts.contacts) {
+    if (contact.state != ContactState::kLifted && handed.count(contact.id) > 0) {
+      if (!seen.insert(contact.id).second) ++m_stats.duplicateContacts;
+      continue;
+    }
     // one entry per id and frame: a repeated id is bad input, the first current entry wins
     const bool lifted = contact.state == ContactState::kLifted;
     if ((lifted && current.count(contact.id) > 0) || !seen.insert(contact.id).second) {
@@ -315,6 +337,242 @@ void ProxyStage::Persistent(const ProxyParams& params, const ContactSet& contact
       it = m_tracks.erase(it);
     } else {
       ++it;
+    }
+  }
+}
+
+void ProxyStage::HandOver(const ProxyParams& params, const ContactSet& contacts,
+                          const SceneQuery& scene, ParticlePlan& plan,
+                          std::unordered_set<ContactId>& handled) {
+  // each current contact (its first entry) and the last frame's contacts with particles it
+  // names as parents; families join contacts that share a parent
+  std::vector<const Contact*> targets;
+  std::unordered_set<ContactId> listed;
+  std::map<ContactId, std::vector<int>> childrenOf;  // parent id -> indices into targets
+  for (const Contact& c : contacts.contacts) {
+    if (c.state == ContactState::kLifted || !listed.insert(c.id).second) continue;
+    bool any = false;
+    for (const ContactId p : c.parents) {
+      if (m_tracks.count(p) == 0) continue;
+      auto& children = childrenOf[p];
+      if (!children.empty() && children.back() == static_cast<int>(targets.size())) continue;
+      children.push_back(static_cast<int>(targets.size()));
+      any = true;
+    }
+    if (any) targets.push_back(&c);
+  }
+  if (childrenOf.empty()) return;
+  // union-find over the targets: two that share a parent are one family
+  std::vector<int> root(targets.size());
+  for (size_t i = 0; i < root.size(); ++i) root[i] = static_cast<int>(i);
+  auto find = [&](int i) {
+    while (root[i] != i) i = root[i] = root[root[i]];
+    return i;
+  };
+  for (const auto& [parent, children] : childrenOf) {
+    for (size_t k = 1; k < children.size(); ++k) root[find(children[k])] = find(children[0]);
+  }
+  std::map<int, std::pair<std::vector<ContactId>, std::vector<const Contact*>>> families;
+  for (const auto& [parent, children] : childrenOf)
+    families[find(children[0])].first.push_back(parent);
+  for (size_t i = 0; i < targets.size(); ++i) {
+    families[find(static_cast<int>(i))].second.push_back(targets[i]);
+  }
+  for (const auto& [key, family] : families) {
+    const auto& [sources, members] = family;
+    // one contact continuing itself alone is the ordinary case
+    if (sources.size() == 1 && members.size() == 1 && members[0]->id == sources[0] &&
+        members[0]->state == ContactState::kContinuing) {
+      continue;
+    }
+    HandOverFamily(params, sources, members, scene, plan);
+    for (const Contact* c : members) handled.insert(c->id);
+    ++m_stats.handovers;
+  }
+}
+
+void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<ContactId>& sources,
+                                const std::vector<const Contact*>& targets, const SceneQuery& scene,
+                                ParticlePlan& plan) {
+  // The paper's successor search, run from every source contour to every target contour: each
+  // source point takes the target point whose window matches best over all targets, and each
+  // target point takes the best-scoring source point that chose it as its predecessor. A merged
+  // contact so inherits the particles of all its parents (the union of their contours matched to
+  // its one), and the pieces of a split each take their parent's particles that fall on their
+  // outlines. Each source contour is first moved on by its contact's last rigid motion (each
+  // has its own, and the merged outline shows none of them), so that the sum of squared
+  // distances sees the change of shape rather than the motion.
+  std::vector<Track> from;
+  std::vector<Contour> moved;
+  from.reserve(sources.size());
+  moved.reserve(sources.size());
+  for (const ContactId id : sources) {
+    auto it = m_tracks.find(id);
+    from.push_back(std::move(it->second));
+    m_tracks.erase(it);
+    moved.push_back(Transformed(from.back().contour, from.back().motion));
+  }
+  const int window = std::clamp(params.window, 0, kMaxMatchWindow);
+  struct Choice {
+    int target = -1;
+    int index = -1;
+    double score = std::numeric_limits<double>::infinity();
+  };
+  std::vector<std::vector<Choice>> choice(from.size());
+  for (size_t i = 0; i < from.size(); ++i) {
+    choice[i].resize(static_cast<size_t>(from[i].contour.cols()));
+    if (from[i].contour.cols() == 0) continue;
+    for (size_t t = 0; t < targets.size(); ++t) {
+      const Contour& cur = targets[t]->blob.contour;
+      if (cur.cols() == 0) continue;
+      const MatchResult r = MatchFast(moved[i], cur, window);
+      for (size_t k = 0; k < choice[i].size(); ++k) {
+        if (r.score[k] < choice[i][k].score) {
+          choice[i][k] = {static_cast<int>(t), r.successor[k], r.score[k]};
+        }
+      }
+    }
+  }
+  // predecessors: per target point, the (source, point) with the lowest score
+  struct Pred {
+    int source = -1;
+    int point = -1;
+    double score = std::numeric_limits<double>::infinity();
+  };
+  std::vector<std::vector<Pred>> pred(targets.size());
+  for (size_t t = 0; t < targets.size(); ++t) {
+    pred[t].resize(static_cast<size_t>(targets[t]->blob.contour.cols()));
+  }
+  for (size_t i = 0; i < from.size(); ++i) {
+    for (size_t k = 0; k < choice[i].size(); ++k) {
+      const Choice& c = choice[i][k];
+      if (c.target < 0) continue;
+      Pred& p = pred[c.target][c.index];
+      if (c.score < p.score) p = {static_cast<int>(i), static_cast<int>(k), c.score};
+    }
+  }
+  // A source point whose successor went to a better-scoring one moves to the nearest free point
+  // next to it, on the side where it lies from the winner along its own contour: the contours
+  // are sampled at independent phases and lengths, so several points of an outline that only
+  // moved often choose one successor while its neighbour goes free, which would delete and
+  // create a particle for nothing. A point only moves within kFillReach of its successor, and
+  // never across another point's particle: an outline that shrank still deletes, one that grew
+  // still creates.
+  std::vector<std::tuple<double, int, int>> losers;  // score, source, point
+  for (size_t i = 0; i < from.size(); ++i) {
+    for (size_t k = 0; k < choice[i].size(); ++k) {
+      const Choice& c = choice[i][k];
+      if (c.target < 0) continue;
+      const Pred& p = pred[c.target][c.index];
+      if (p.source != static_cast<int>(i) || p.point != static_cast<int>(k)) {
+        losers.emplace_back(c.score, static_cast<int>(i), static_cast<int>(k));
+      }
+    }
+  }
+  std::sort(losers.begin(), losers.end());
+  for (const auto& [score, i, k] : losers) {
+    const Choice& c = choice[i][k];
+    std::vector<Pred>& line = pred[c.target];
+    const int m = static_cast<int>(line.size());
+    const Pred& winner = line[c.index];
+    // which way along the target: the same way k lies from the winner along their contour
+    int direction = 1;
+    if (winner.source == i) {
+      const int n = static_cast<int>(choice[i].size());
+      direction = WrapIndex(k - winner.point, n) <= n / 2 ? 1 : -1;
+    }
+    for (int step = 1; step <= kFillReach && step < m; ++step) {
+      const int j = WrapIndex(c.index + direction * step, m);
+      if (line[j].source < 0) {
+        line[j] = {i, k, score};
+        break;
+      }
+      if (line[j].source != i) break;  // another outline's particle: not across it
+    }
+  }
+  auto heightOf = [&](int i, int k) {
+    const auto f = m_feedback.find(from[i].ids[k]);
+    return f != m_feedback.end() ? f->second.baseHeight : from[i].baseHeights[k];
+  };
+  auto lastTarget = [&](int i, int k) -> Vec2 {
+    return from[i].targets.cols() == from[i].contour.cols() ? Vec2(from[i].targets.col(k))
+                                                            : Vec2(from[i].contour.col(k));
+  };
+  auto positionOf = [&](int i, int k) -> Vec2 {
+    const auto f = m_feedback.find(from[i].ids[k]);
+    return f != m_feedback.end() ? f->second.pos : lastTarget(i, k);
+  };
+  std::vector<std::vector<bool>> kept(from.size());
+  for (size_t i = 0; i < from.size(); ++i) kept[i].assign(from[i].ids.size(), false);
+  for (size_t t = 0; t < targets.size(); ++t) {
+    const Contact& contact = *targets[t];
+    const Contour& cur = contact.blob.contour;
+    const int m = static_cast<int>(cur.cols());
+    std::vector<int> has(m, -1);
+    for (int j = 0; j < m; ++j) has[j] = pred[t][j].source >= 0 ? j : -1;
+    Track track;
+    track.contour = cur;
+    track.targets = cur;
+    // its motion goes on as that of the source most of its particles came from
+    std::vector<int> votes(from.size(), 0);
+    for (const Pred& q : pred[t]) {
+      if (q.source >= 0) ++votes[q.source];
+    }
+    track.motion = from[std::max_element(votes.begin(), votes.end()) - votes.begin()].motion;
+    track.ids.resize(m);
+    track.baseHeights.resize(m);
+    // a target no source point chose starts over: seeded as a new contact is
+    if (m > 0 && std::none_of(has.begin(), has.end(), [](int h) { return h >= 0; })) {
+      Seed(params, contact, scene, plan);
+      continue;
+    }
+    for (int j = 0; j < m; ++j) {
+      PlannedParticle p;
+      p.contact = contact.id;
+      p.index = j;
+      p.target = cur.col(j);
+      const Pred& q = pred[t][j];
+      if (q.source >= 0) {
+        p.id = from[q.source].ids[q.point];
+        p.action = ParticleAction::kReused;
+        p.baseHeight = heightOf(q.source, q.point);
+        // its last target moved on with its contact, on this outline near its point
+        if (params.subsample) {
+          p.target = SubsampleTarget(cur, j, lastTarget(q.source, q.point), from[q.source].motion);
+        }
+        kept[q.source][q.point] = true;
+      } else {
+        // created where the nearest handed-over neighbour on this outline sits, at its height:
+        // beside a gripped face, never on the object's top
+        const Pred& nb = pred[t][NearestKept(has, j)];
+        p.id = m_ids.Next();
+        p.action = ParticleAction::kCreated;
+        p.start = positionOf(nb.source, nb.point);
+        p.baseHeight = heightOf(nb.source, nb.point);
+        if (params.placement == Placement::kGround && p.baseHeight <= 0.0) {
+          p.start = scene.NearestOutside(p.start);
+          p.baseHeight = 0.0;
+        }
+      }
+      track.ids[j] = p.id;
+      track.baseHeights[j] = p.baseHeight;
+      track.targets.col(j) = p.target;
+      plan.particles.push_back(p);
+    }
+    m_tracks[contact.id] = std::move(track);
+  }
+  // the source particles no target point took
+  for (size_t i = 0; i < from.size(); ++i) {
+    for (size_t k = 0; k < from[i].ids.size(); ++k) {
+      if (kept[i][k]) continue;
+      PlannedParticle p;
+      p.id = from[i].ids[k];
+      p.contact = sources[i];
+      p.index = -1;
+      p.action = ParticleAction::kDeleted;
+      p.target = from[i].contour.col(static_cast<Eigen::Index>(k));
+      p.baseHeight = heightOf(static_cast<int>(i), static_cast<int>(k));
+      plan.particles.push_back(p);
     }
   }
 }
@@ -499,6 +757,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   track.ids = std::move(ids);
   track.baseHeights = std::move(heights);
   track.targets = std::move(targets);
+  track.motion = compensate ? contourMotion.motion : motion;
 }
 
 void ProxyStage::DeleteTrack(ContactId id, const Track& track, ParticlePlan& plan) {

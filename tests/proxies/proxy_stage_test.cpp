@@ -584,6 +584,115 @@ TEST(ProxyStage, MergesSplitsAndBadInputKeepIdsUnique) {
   }
 }
 
+// Merges and splits (Contact::parents). The fewest particles an event can create and delete: M
+// target points and N source points need max(0, M - N) created and max(0, N - M) deleted. The
+// handover may add kEventSlack of each, for the contours' sampling phases (docs/proxies.md,
+// "Merges and splits").
+constexpr int kEventSlack = 2;
+
+int Points(const std::vector<Contour>& contours) {
+  int n = 0;
+  for (const Contour& c : contours) n += static_cast<int>(c.cols());
+  return n;
+}
+
+TEST(ProxyStageHandOver, AMergedContactTakesOverItsParentsParticles) {
+  Harness h;
+  using testing::TwoDiscsOutline;
+  auto finger = [](double x) { return Sensed(Moved(CircleOutline(0.9), {Vec2(x, 20)})); };
+  // two fingertips close in at 0.2 cm a frame each, then touch: one outline, 0.2 cm overlap
+  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, finger(19.0)),
+                     MakeContact(2, ContactState::kNew, finger(21.6))}));
+  const Contour a = finger(19.2), b = finger(21.4);
+  const ParticlePlan before = h.Step(MakeSet(1, {MakeContact(1, ContactState::kContinuing, a),
+                                                 MakeContact(2, ContactState::kContinuing, b)}));
+  std::set<ParticleId> second;  // contact 2's particles
+  for (const PlannedParticle& p : before.particles) {
+    if (p.contact == 2) second.insert(p.id);
+  }
+  const Contour merged = Sensed(Moved(TwoDiscsOutline(1.6, 0.9), {Vec2(20.3, 20)}));
+  Contact m = MakeContact(1, ContactState::kContinuing, merged);
+  m.parents = {1, 2};
+  Contact gone = MakeContact(2, ContactState::kLifted, b);
+  gone.mergedInto = 1;
+  const ParticlePlan plan = h.Step(MakeSet(2, {m, gone}));
+  const int sources = Points({a, b}), targets = Points({merged});
+  ASSERT_LT(targets, sources) << "the overlap shortens the outline";
+  EXPECT_LE(plan.created, kEventSlack);
+  EXPECT_LE(plan.deleted, sources - targets + kEventSlack);
+  EXPECT_EQ(plan.reused + plan.created, targets);
+  // the second fingertip's particles now follow the merged contact
+  int handed = 0;
+  for (const PlannedParticle& p : plan.particles) {
+    if (p.action == ParticleAction::kReused && second.count(p.id) > 0) {
+      EXPECT_EQ(p.contact, 1);
+      ++handed;
+    }
+  }
+  EXPECT_GE(handed, static_cast<int>(second.size()) - (sources - targets) - kEventSlack);
+  EXPECT_EQ(h.stage.Stats().handovers, 1);
+}
+
+TEST(ProxyStageHandOver, SplitPiecesTakeTheParticlesOnTheirOutlines) {
+  Harness h;
+  using testing::TwoDiscsOutline;
+  const Contour merged = Sensed(Moved(TwoDiscsOutline(1.6, 0.9), {Vec2(20.3, 20)}));
+  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, merged)}));
+  const ParticlePlan seeded =
+      h.Step(MakeSet(1, {MakeContact(1, ContactState::kContinuing, merged)}));
+  // which side of the middle each particle sits on
+  std::map<ParticleId, bool> right;
+  for (const PlannedParticle& p : seeded.particles) right[p.id] = p.target.x() > 20.3;
+  const Contour a = Sensed(Moved(CircleOutline(0.9), {Vec2(19.4, 20)}));
+  const Contour b = Sensed(Moved(CircleOutline(0.9), {Vec2(21.2, 20)}));
+  Contact left = MakeContact(1, ContactState::kContinuing, a);
+  left.parents = {1};
+  Contact piece = MakeContact(3, ContactState::kNew, b);
+  piece.parents = {1};
+  const ParticlePlan plan = h.Step(MakeSet(2, {left, piece}));
+  const int sources = Points({merged}), targets = Points({a, b});
+  ASSERT_GT(targets, sources) << "the parting lengthens the outlines";
+  EXPECT_LE(plan.created, targets - sources + kEventSlack);
+  EXPECT_LE(plan.deleted, kEventSlack);
+  // each piece took the particles of its own side
+  int reused = 0;
+  for (const PlannedParticle& p : plan.particles) {
+    if (p.action != ParticleAction::kReused) continue;
+    ++reused;
+    EXPECT_EQ(right.at(p.id), p.contact == 3) << "particle " << p.id;
+  }
+  EXPECT_GE(reused, sources - kEventSlack);
+}
+
+TEST(ProxyStageHandOver, ParticlesCreatedBesideAGrippedFaceStayOnTheTable) {
+  // two fingertips pressing a box's left face 0.6 cm deep part: the points their outlines gain
+  // lie over the box's footprint, and their particles start with their neighbours on the table,
+  // pressing the face, not on the box's top as a raycast would put them
+  Harness h;
+  using testing::TwoDiscsOutline;
+  h.scene.boxes = {{Vec2(20, 15), Vec2(30, 25), 3.0}};
+  const Pose2 at{Vec2(19.7, 20), kPi / 2};  // the fingertips one above the other, along the face
+  const Contour merged = Sensed(Moved(TwoDiscsOutline(1.6, 0.9), at));
+  h.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, merged)}));
+  // seeded by raycast, the points inside the footprint start on its top: put them on the table
+  // as the physics would (they cannot climb the side)
+  for (auto& [id, f] : h.physics) f.baseHeight = 0.0;
+  h.Step(MakeSet(1, {MakeContact(1, ContactState::kContinuing, merged)}));
+  Contact lower = MakeContact(1, ContactState::kContinuing,
+                              Sensed(Moved(CircleOutline(0.9), {Vec2(19.7, 19.1)})));
+  lower.parents = {1};
+  Contact upper =
+      MakeContact(4, ContactState::kNew, Sensed(Moved(CircleOutline(0.9), {Vec2(19.7, 20.9)})));
+  upper.parents = {1};
+  const ParticlePlan plan = h.Step(MakeSet(2, {lower, upper}));
+  ASSERT_GT(plan.created, 0);
+  for (const PlannedParticle& p : plan.particles) {
+    if (p.action == ParticleAction::kCreated) {
+      EXPECT_EQ(p.baseHeight, 0.0) << "particle " << p.id << " at " << p.target.transpose();
+    }
+  }
+}
+
 TEST(ProxyStage, NewContactOverAnObjectRestsOnItsTop) {
   Harness h;
   h.scene.boxes = {{Vec2(20, 20), Vec2(30, 30), 5.0}};

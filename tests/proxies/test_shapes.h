@@ -73,6 +73,16 @@ inline Contour CapsuleOutline(double length, double radius) {
   return ToContour(pts);
 }
 
+/// The outline of two overlapping discs of one radius whose centres lie `distance` apart on the
+/// local x axis (0 < distance < 2 radius): two fingertips pressed together.
+inline Contour TwoDiscsOutline(double distance, double radius) {
+  const double alpha = std::acos(distance / (2.0 * radius));  // where the circles cross
+  std::vector<Vec2> pts;
+  AppendArc(pts, Vec2(distance / 2, 0), radius, -kPi + alpha, kPi - alpha, 128);
+  AppendArc(pts, Vec2(-distance / 2, 0), radius, alpha, 2 * kPi - alpha, 128);
+  return ToContour(pts);
+}
+
 /// One finger of a hand outline, walked counter-clockwise: out along its right side, round the
 /// tip, back along its left side. base is the centre of its root, angle its direction.
 inline void AppendFinger(std::vector<Vec2>& pts, const Vec2& base, double angle, double length,

@@ -15,6 +15,7 @@
 #include <span>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace pg {
@@ -28,6 +29,7 @@ struct ProxyStageStats {
   int windowedFallbacks = 0;  ///< points the windowed search handed to the full search
   int indexShifts = 0;   ///< contours whose indices crept off their targets and were moved back
   int missingImage = 0;  ///< instant-mode frames without a table image (no particles)
+  int handovers = 0;     ///< merges and splits whose particles were handed over
 };
 
 /// The successors of a contact's previous contour points on its current contour, by the search
@@ -68,6 +70,7 @@ class ProxyStage {
     std::vector<ParticleId> ids;      // particle of each contour point
     std::vector<double> baseHeights;  // last known base height of each point's particle, cm
     Contour targets;                  // last target of each point's particle (subsample), cm
+    Pose2 motion;                     // the contact's last rigid motion, from the contour before
   };
 
   void Persistent(const ProxyParams& params, const ContactSet& contacts, const SceneQuery& scene,
@@ -77,6 +80,13 @@ class ProxyStage {
   void Continue(const ProxyParams& params, const Contact& contact, const SceneQuery& scene,
                 Track& track, ParticlePlan& plan);
   void DeleteTrack(ContactId id, const Track& track, ParticlePlan& plan);
+  // merges and splits (Contact::parents): the contacts of this frame that take over particles of
+  // other contacts of the last frame; handed over, and their ids added to `handled`
+  void HandOver(const ProxyParams& params, const ContactSet& contacts, const SceneQuery& scene,
+                ParticlePlan& plan, std::unordered_set<ContactId>& handled);
+  void HandOverFamily(const ProxyParams& params, const std::vector<ContactId>& sources,
+                      const std::vector<const Contact*>& targets, const SceneQuery& scene,
+                      ParticlePlan& plan);
   void FindGripTurns(const ContactSet& contacts, const SceneQuery& scene);
 
   ProxyParams m_params;
