@@ -420,8 +420,12 @@ void LayeredWorld::Impl::LimitRelease(int oi, const std::vector<ContactRecord*>&
   // grip_release_speed. The contact solver gave each pressing body's impulse lambda_i with no
   // such bound, so a squeezed object let go took the grip's whole stored energy at once. Here
   // each lambda_i is lowered (never below 0) until the face at its point recedes at most u
-  // faster than the goal: (v + w x r_i) . n_i <= g_i + u, projected Gauss-Seidel over the
-  // object's pushes, and the contact's friction impulse is brought within mu lambda_i.
+  // faster than the goal advances: (v + w x r_i) . n_i <= max(g_i, 0) + u, projected
+  // Gauss-Seidel over the object's pushes, and the contact's friction impulse is brought within
+  // mu lambda_i. A goal that withdraws (g_i < 0) throws nothing: the face it leaves behind is
+  // slower than it, so the bound is the pad's u alone; measured from the withdrawing goal, a
+  // grip that starts a carry at once let go with its leading pads while the object still lagged
+  // inside them, and a pinched round object spun out on the trailing pads' friction alone.
   // A face that also slides across the pad faster than u (speed s along t_i, relative to the
   // finger's surface there) is left behind by it: it may recede at most u (u / s). Without this,
   // two pads pinching a round slice formed a wedge that squeezed it out sideways at u / sin(phi),
@@ -438,7 +442,7 @@ void LayeredWorld::Impl::LimitRelease(int oi, const std::vector<ContactRecord*>&
       const Vec2 v = *vel + Vec2(-arm.y(), arm.x()) * *omega;
       const double slide = (v - r->padVel).dot(r->tangentIn);
       const double recede = std::abs(slide) > u ? u * u / std::abs(slide) : u;
-      const double excess = v.dot(r->normalIn) - r->goalSpeed - recede;
+      const double excess = v.dot(r->normalIn) - std::max(r->goalSpeed, 0.0) - recede;
       if (excess <= 0.0) continue;
       const double take = std::min(r->normalImpulse, excess / (invM + armN * armN * invI));
       r->normalImpulse -= take;

@@ -26,8 +26,9 @@ void Describe(PhysicsParams& p, ParamVisitor& v) {
   v.Real("grip_damping", p.gripDamping, 0, 1e6, "dyn s/cm",
          "normal force of a particle body per cm/s its target moves into an object");
   v.Real("grip_release_speed", p.gripReleaseSpeed, 0, 1e6, "cm/s",
-         "fastest a particle body pushes an object's face away from its target, as a finger pad "
-         "springs back; u^2/s where the face slides across the finger at s > u (0 = no limit)");
+         "fastest a particle body pushes an object's face away beyond its target's own advance, "
+         "as a finger pad springs back; u^2/s where the face slides across the finger at s > u "
+         "(0 = no limit)");
   v.Real("grip_max_depth", p.gripMaxDepth, 0.001, 100, "cm",
          "target depth inside an object beyond which a particle presses no harder");
   v.Integer("stack_size", p.stackSize, 1, 16, "1",

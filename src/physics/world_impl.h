@@ -315,7 +315,8 @@ struct LayeredWorld::Impl {
   /// per object, the contact records of the particles pressing it in this substep (Couple)
   std::vector<std::vector<ContactRecord*>> releasePushes;
   /// Takes back the part of the particles' pushes on object `oi` in this substep that made one
-  /// of its faces recede from a pressing body's goal faster than grip_release_speed, from the
+  /// of its faces recede from a pressing body faster than grip_release_speed beyond its goal's
+  /// advance into the face (a goal that withdraws counts as still), from the
   /// object's velocity and turn rate at the substep's end (`vel`, `omega`: updated).
   void LimitRelease(int oi, const std::vector<ContactRecord*>& pushes, Vec2* vel,
                     double* omega) const;

@@ -30,9 +30,10 @@ struct PhysicsParams {
                                     ///< body's target lies inside it, dyn/cm
   double gripDamping = 0.0;         ///< grip dashpot: normal force per cm/s the target moves into
                                     ///< the object relative to its surface, dyn s/cm
-  double gripReleaseSpeed = 5.0;    ///< fastest a particle body pushes a face away from its
-                                    ///< target, cm/s: a finger pad springs back (u^2 / s where
-                                    ///< the face slides across the finger at s > u; 0: no limit)
+  double gripReleaseSpeed = 5.0;    ///< fastest a particle body pushes a face away beyond its
+                                    ///< target's advance, cm/s: a finger pad springs back (u^2 / s
+                                    ///< where the face slides across the finger at s > u; 0: no
+                                    ///< limit)
   double gripMaxDepth = 1.0;        ///< depth beyond which pressing deeper adds no force, cm
   int stackSize = 1;                ///< S, bodies per particle stack in consecutive layers
   bool capsule = false;             ///< fill every layer from the base to the top instead of S
