@@ -168,7 +168,10 @@ bool ExpectKeyApplies(ExpectKind kind, std::string_view key) {
   using K = ExpectKind;
   if (key == "object") return kind != K::kResting;
   if (key == "contact" || key == "on" || key == "fraction") return kind == K::kResting;
-  if (key == "above" || key == "below") return kind == K::kRotation || kind == K::kDisplacement;
+  if (key == "above") return kind == K::kRotation || kind == K::kDisplacement;
+  if (key == "below") {
+    return kind == K::kRotation || kind == K::kDisplacement || kind == K::kSpeed;
+  }
   if (key == "held") return kind == K::kHeld;
   return true;
 }
@@ -189,6 +192,10 @@ void DescribeExpectation(Expectation& e, ExpectationKeys& k, ParamVisitor& v) {
            "rotation: lower bound of the total signed rotation since the start");
     v.Real("below", k.belowDeg, -36000, 36000, "deg",
            "rotation: upper bound of the total signed rotation since the start");
+  } else if (e.kind == ExpectKind::kSpeed) {
+    v.Real("below", e.below, 0, 100000, "cm/s",
+           "speed: the object's centre of mass stays slower than this, every frame from the start "
+           "to the check");
   } else {
     v.Real("above", e.above, 0, 10000, "cm",
            "displacement: lower bound of the distance moved from the start");

@@ -140,6 +140,9 @@ MaybeError Loader::ReadExpectation(const toml::table& t, const Level& level, Exp
                                                    FormatDouble(e.above) + " cm)");
       }
       break;
+    case ExpectKind::kSpeed:
+      if (!t.contains("below")) return MakeError(e.loc, what + " needs below");
+      break;
     case ExpectKind::kHeld:
       break;
     case ExpectKind::kResting:

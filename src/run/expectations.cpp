@@ -52,6 +52,9 @@ std::string ExpectationText(const Expectation& e) {
       text = FormatDouble(e.fraction * 100) + "% of " + e.contact + " resting on " +
              (e.OnTable() ? std::string("the table") : e.on);
       break;
+    case ExpectKind::kSpeed:
+      text = e.object + " never faster than " + FormatDouble(e.below) + " cm/s";
+      break;
   }
   text += e.at ? " at " + FormatDouble(*e.at) + " s" : " at the end";
   std::string qualifiers;
@@ -86,6 +89,7 @@ void Evaluator::AfterFrame(const Simulation& sim, double t,
     track.rotation += WrapAngle(s.pose.angle - track.lastAngle);
     track.lastAngle = s.pose.angle;
     track.held[static_cast<size_t>(track.frames % kHeldFrames)] = s.held;
+    track.peakSpeed = std::max(track.peakSpeed, s.velocity.norm());
     ++track.frames;
   }
   // a small tolerance so an expectation at exactly a frame boundary is checked on that frame
@@ -192,6 +196,12 @@ ExpectationResult Evaluator::Check(const Expectation& e, const Simulation& sim) 
       // does not draw the script's contacts (a TUIO stream or a video names none of them)
       if (total == 0) r.measured += ": none of script contact '" + e.contact + "'";
       r.passed = total > 0 && fraction >= e.fraction;
+      break;
+    }
+    case ExpectKind::kSpeed: {
+      const double peak = m_objects[static_cast<size_t>(object)].peakSpeed;
+      r.measured = "peak " + FormatFixed(peak, 2) + " cm/s";
+      r.passed = peak < e.below;
       break;
     }
   }

@@ -88,7 +88,12 @@ TEST(LevelErrors, ExpectationTimesAndBounds) {
             "inline.toml:11:1: give a region as min and max, or as center and radius, not both");
   EXPECT_EQ(ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"wobble\"\n"),
             "inline.toml:7:8: kind 'wobble' is not one of: position, rotation, displacement, "
-            "held, resting");
+            "held, resting, speed");
+  EXPECT_EQ(ErrorOf(std::string(kBox) + "[[expect]]\nkind = \"speed\"\nobject = \"box\"\n"),
+            "inline.toml:6:1: a speed expectation needs below");
+  EXPECT_EQ(ErrorOf(std::string(kBox) +
+                    "[[expect]]\nkind = \"speed\"\nobject = \"box\"\nbelow = 5\nabove = 1\n"),
+            "inline.toml:10:1: unknown key 'above' in a speed expectation");
   EXPECT_EQ(ErrorOf(std::string(kBox) +
                     "[[goals]]\nobject = \"box\"\ncenter = [3, 3]\nradius = 2\ntolerance = 4\n"),
             "inline.toml:10:1: tolerance needs angle");

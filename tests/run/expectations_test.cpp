@@ -93,6 +93,48 @@ TEST(Evaluator, ChecksEachExpectationWhenDueAndCountsOnlyTheLastHeldFrames) {
   EXPECT_EQ(results[3].measured, "run ended at 0.500 s");
 }
 
+TEST(Evaluator, ASpeedExpectationHoldsThePeakOfEveryFrameUpToItsTime) {
+  // a fingertip (radius 0.8 cm) moves from x = 26 to 34 at 16 cm/s and stops: its edge meets the
+  // 4 cm box's left side (x = 28) at 0.075 s, after the first check (0.05 s, the end of frame 3),
+  // and then pushes the box at about its own speed, never faster than it plus the release bound
+  // of 5 cm/s
+  const Level level = test::ParseOrFail(test::BoxToml("box", 30, 23) +
+                                        test::FingerToml("finger", 26, 23, 0, 34, 23, 0.5) + R"(
+[script]
+duration = 1
+
+[[expect]]
+kind = "speed"
+object = "box"
+below = 0.001
+at = 0.05
+
+[[expect]]
+kind = "speed"
+object = "box"
+below = 5
+
+[[expect]]
+kind = "speed"
+object = "box"
+below = 21
+)");
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  Evaluator evaluator(level, LevelRuns(level)[0], sim);
+  std::vector<ExpectationResult> results;
+  while (sim.Time() < 1.0 - 1e-9) {
+    ASSERT_FALSE(sim.StepScript());
+    evaluator.AfterFrame(sim, sim.Time(), results);
+  }
+  evaluator.Finish(sim, sim.Time(), results);
+  ASSERT_EQ(results.size(), 3u);
+  EXPECT_EQ(results[0].text, "box never faster than 0.001 cm/s at 0.05 s");
+  EXPECT_TRUE(results[0].passed) << "untouched in its first three frames: " << results[0].measured;
+  EXPECT_FALSE(results[1].passed) << "pushed at about 16 cm/s: " << results[1].measured;
+  EXPECT_TRUE(results[2].passed) << results[2].measured;
+}
+
 TEST(Evaluator, ARestingContactThatLeftNoParticleSaysWhichContactItLookedFor) {
   // a level whose script has a fingertip, run from an input that does not draw the script (here
   // contours that hold no contact; a TUIO stream or a video is the same): the resting

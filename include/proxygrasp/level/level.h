@@ -43,9 +43,10 @@ enum class ExpectKind {
   kDisplacement,  ///< the distance the object moved from its start is above and/or below a value
   kHeld,          ///< the object is (or is not) held by the contacts
   kResting,       ///< a fraction of a contact's particles rest on an object's top or the table
+  kSpeed,         ///< the object's peak speed from the start up to the check stays below a value
 };
-inline constexpr const char* kExpectKindNames[] = {"position", "rotation", "displacement", "held",
-                                                   "resting"};
+inline constexpr const char* kExpectKindNames[] = {"position", "rotation", "displacement",
+                                                   "held",     "resting",  "speed"};
 
 /// Default fraction of a contact's particles that must rest where a "resting" expectation says.
 inline constexpr double kDefaultRestingFraction = 0.8;
@@ -60,7 +61,8 @@ struct Expectation {
   double minAngle = -std::numeric_limits<double>::infinity();  ///< rotation, rad
   double maxAngle = std::numeric_limits<double>::infinity();   ///< rotation, rad
   double above = -std::numeric_limits<double>::infinity();     ///< displacement lower bound, cm
-  double below = std::numeric_limits<double>::infinity();      ///< displacement upper bound, cm
+  double below = std::numeric_limits<double>::infinity();      ///< displacement upper bound,
+                                                               ///< cm; speed: the bound, cm/s
   bool held = true;                                            ///< held: the state expected
   double fraction = kDefaultRestingFraction;  ///< resting: fraction of particles, 0..1
   std::optional<double> at;                   ///< s; nullopt checks at the end of the run

@@ -52,6 +52,7 @@ class Evaluator {
     double rotation = 0.0;                 // unwrapped signed rotation since the start, rad
     std::array<bool, kHeldFrames> held{};  // the last frames' held flags, a ring
     int64_t frames = 0;                    // frames seen
+    double peakSpeed = 0.0;                // fastest centre of mass at a frame's end, cm/s
   };
 
   double DefaultTime(const Expectation& e) const;
