@@ -221,6 +221,7 @@ void LayeredWorld::ApplyPlan(const ParticlePlan& plan) {
         ParticleData p;
         p.id = pp.id;
         p.contact = pp.contact;
+        p.finger = pp.contact;
         p.prevTarget = pp.start;
         p.target = pp.target;
         p.baseHeight = std::max(0.0, pp.baseHeight);

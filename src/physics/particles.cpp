@@ -524,7 +524,10 @@ void LayeredWorld::Impl::UpdateSpin() {
   // means); the bodies carry it as angular velocity. They never turn by themselves: their
   // rotation is fixed, so no contact changes it. The same fit gives the velocity of the finger's
   // surface at each particle (padVel: the contact's mean velocity plus its turn), which, unlike
-  // the goal's own velocity, leaves out the particles' slide along the contour.
+  // the goal's own velocity, leaves out the particles' slide along the contour. The fit runs over
+  // the particles of one finger: those created for one contact (ParticleData::finger). When
+  // outlines merge, the merged contact holds the particles of several fingers, and one fit over
+  // them all would move the pads of a finger that holds still with the one that pushes.
   struct Sums {
     Vec2 from = Vec2::Zero();
     Vec2 to = Vec2::Zero();
@@ -547,13 +550,13 @@ void LayeredWorld::Impl::UpdateSpin() {
     return *run;
   };
   for (const ParticleData& p : particles) {
-    Sums& s = sumsOf(p.contact);
+    Sums& s = sumsOf(p.finger);
     s.from += p.prevTarget;
     s.to += p.target;
     ++s.count;
   }
   for (const ParticleData& p : particles) {
-    Sums& s = sumsOf(p.contact);
+    Sums& s = sumsOf(p.finger);
     const Vec2 a = p.prevTarget - s.from / s.count;
     const Vec2 b = p.target - s.to / s.count;
     s.cross += a.x() * b.y() - a.y() * b.x();
@@ -566,7 +569,7 @@ void LayeredWorld::Impl::UpdateSpin() {
     s.velocity = (s.to - s.from) / s.count * params.frameRate;
   }
   for (ParticleData& p : particles) {
-    const Sums& s = sumsOf(p.contact);
+    const Sums& s = sumsOf(p.finger);
     p.spin = s.spin;
     const Vec2 arm = p.target - s.to / s.count;
     p.padVel = s.velocity + p.spin * Vec2(-arm.y(), arm.x());

@@ -171,6 +171,9 @@ struct ObjectData {
 struct ParticleData {
   ParticleId id = kNoId;
   ContactId contact = kNoId;
+  /// the contact it was created for: its finger. A contact that merged holds the particles of
+  /// several fingers, each moving its own way; the turn and surface velocity are fitted per finger
+  ContactId finger = kNoId;
   Vec2 target = Vec2::Zero();      ///< reached by the frame's end
   Vec2 prevTarget = Vec2::Zero();  ///< the target of the previous frame (or the start)
   double baseHeight = 0.0;
