@@ -5,10 +5,13 @@
 #include "proxygrasp/bench/bench.h"
 #include "proxygrasp/bench/grasp_sweep.h"
 
+#include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <sstream>
+#include <unistd.h>
 
 namespace pg {
 
@@ -28,6 +31,8 @@ struct BenchArgs {
   int threads = 2;
   bool ruleOnly = false;
   double holdShare = 0.6;
+  std::string classes = "all";
+  bool quiet = false;
   std::vector<std::string> sets;
   std::string clock = "cpu";
 };
@@ -73,6 +78,35 @@ int RunGraspCommand(const BenchArgs& args) {
   options.ruleOnly = args.ruleOnly;
   options.holdShare = args.holdShare;
   options.sets = args.sets;
+  Result<GraspClasses> classes = ParseGraspClasses(args.classes);
+  if (!classes.ok()) {
+    std::cerr << "proxygrasp bench grasp: " << classes.error().message << "\n";
+    return kExitBadInput;
+  }
+  options.classes = classes.value();
+  // progress on stderr: one line rewritten in place on a terminal, a line every 30 s otherwise
+  const bool terminal = isatty(STDERR_FILENO) != 0;
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  Clock::time_point last = start;
+  if (!args.quiet) {
+    options.progress = [terminal, start, last](size_t done, size_t total) mutable {
+      const Clock::time_point now = Clock::now();
+      const double interval = terminal ? 0.5 : 30.0;
+      if (done < total && std::chrono::duration<double>(now - last).count() < interval) return;
+      last = now;
+      const double elapsed = std::chrono::duration<double>(now - start).count();
+      const double left = done > 0 ? elapsed * static_cast<double>(total - done) / done : 0.0;
+      char line[160];
+      std::snprintf(line, sizeof line, "grasp sweep: %zu / %zu runs, %.0f s, about %.0f s left",
+                    done, total, elapsed, left);
+      if (terminal) {
+        std::cerr << "\r" << line << "\x1b[K" << (done == total ? "\n" : "") << std::flush;
+      } else {
+        std::cerr << line << "\n" << std::flush;
+      }
+    };
+  }
   options.substeps.clear();
   std::istringstream counts(args.substeps);
   for (std::string n; std::getline(counts, n, ',');) {
@@ -149,6 +183,11 @@ void AddBenchCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--hold-share", args.holdShare,
                   "grasp: the most of the scenes the rule may call can-hold (0.5 .. 1, default "
                   "0.6): later can-hold draws are skipped; 1 keeps every draw");
+  cmd->add_option("--classes", args.classes,
+                  "grasp: the classes of scene drawn (docs/physics.md, \"Grasp sweep\"): all "
+                  "(default), legacy (the scenes before issue 42, scene for scene), or a list of "
+                  "topologies (none, merged, merge, split) and profiles (bang-bang, step)");
+  cmd->add_flag("--quiet", args.quiet, "grasp: no progress line on stderr");
   cmd->add_flag("--rule-only", args.ruleOnly,
                 "grasp: classify the scenes by the hold rule without running them");
   cmd->callback([&exitCode] { exitCode = RunBenchCommand(args); });

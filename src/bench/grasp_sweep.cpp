@@ -69,15 +69,21 @@ CrossSection Slice0(const ObjectSpec& object, const PhysicsParams& physics) {
   return SectionAt(object, SliceHeight(object, 0, physics.layerHeight));
 }
 
+// how far along its motion the grip is at tau (0 .. 1 of the motion's time): bang-bang, or a
+// velocity step (constant speed from the first frame to the last)
+double Progress(const GraspScene& s, double tau) {
+  return s.profile == GraspProfile::kStep ? std::clamp(tau, 0.0, 1.0) : BangBang(tau);
+}
+
 // the rigid motion of the grip at time t: the pose that carries the object frame at the start
 Pose2 GripMotionAt(const GraspScene& s, double t) {
   const double tau = (t - s.moveStart) / std::max(s.moveEnd - s.moveStart, 1e-9);
   Pose2 m;
   if (s.motion == GraspMotion::kCarry) {
-    m.pos = s.direction * (s.distance * BangBang(tau));
+    m.pos = s.direction * (s.distance * Progress(s, tau));
   } else if (s.motion == GraspMotion::kTurn) {
     // about the object's starting position: p -> c + R (p - c)
-    const double a = s.turn * BangBang(tau);
+    const double a = s.turn * Progress(s, tau);
     const Vec2 c = s.object.pose.pos;
     m.angle = a;
     m.pos = c - Rotate(c, a);
@@ -146,33 +152,56 @@ double FaceHalfLength(const CrossSection& slice, const Vec2& u) {
   return slice.circle ? kInfinity : 0.5 * FacingEdge(slice, u).length;
 }
 
+// how far the footprint (a sphere's equator) reaches beyond the layer-0 slice the fingers grip,
+// along -inward
+double Overhang(const ObjectSpec& object, const Vec2& inward) {
+  const PhysicsParams physics;
+  const CrossSection slice = Slice0(object, physics), footprint = Footprint(object);
+  return ReachAlong(footprint, -inward) - ReachAlong(slice, -inward);
+}
+
+// where finger i grips at time t (object frame at the start): where it started, or on its slide
+// (at constant speed) to where it ends
+Vec2 FingerGripAt(const GraspScene& s, size_t i, double t) {
+  if (s.fingersAfter.empty()) return s.fingers[i].pos;
+  const double span = std::max(s.eventEnd - s.eventStart, 1e-9);
+  const double f = std::clamp((t - s.eventStart) / span, 0.0, 1.0);
+  return s.fingers[i].pos + (s.fingersAfter[i].pos - s.fingers[i].pos) * f;
+}
+
 std::vector<FingerPath> Paths(const GraspScene& s) {
   std::vector<FingerPath> paths;
   const Pose2& pose = s.object.pose;
-  // how far the footprint (a sphere's equator) reaches beyond the layer-0 slice the fingers grip
-  const PhysicsParams physics;
-  const CrossSection slice = Slice0(s.object, physics), footprint = Footprint(s.object);
-  auto overhang = [&](const Vec2& inward) {
-    return ReachAlong(footprint, -inward) - ReachAlong(slice, -inward);
-  };
-  for (const GraspFinger& f : s.fingers) {
+  for (size_t i = 0; i < s.fingers.size(); ++i) {
+    const GraspFinger& f = s.fingers[i];
     FingerPath path;
     path.radius = f.radius;
     const Vec2 grip = pose.Apply(f.pos);
     const Vec2 in = Rotate(f.inward, pose.angle);
     // from outside the footprint: a contact that appears over the object is placed on its top
-    const Vec2 from = grip - in * (s.depth + kClearance + overhang(f.inward));
+    const Vec2 from = grip - in * (s.depth + kClearance + Overhang(s.object, f.inward));
     for (double t = 0.0; t < kApproachTime - 1e-9; t += kKeyInterval) {
       path.keys.emplace_back(t, from + (grip - from) * SmoothStep01(t / kApproachTime));
     }
-    path.keys.emplace_back(kApproachTime, grip);
+    // after the approach: the grip's rigid motion of where the finger grips (which changes
+    // while it slides), at the motion's and the slide's keyframes
+    std::vector<double> times = {kApproachTime};
     if (s.motion != GraspMotion::kPush) {
-      for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) {
-        path.keys.emplace_back(t, ApplyMotion(GripMotionAt(s, t), grip));
-      }
-      path.keys.emplace_back(s.moveEnd, ApplyMotion(GripMotionAt(s, s.moveEnd), grip));
+      for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) times.push_back(t);
+      times.push_back(s.moveEnd);
     }
-    path.keys.emplace_back(s.duration, ApplyMotion(GripMotionAt(s, s.duration), grip));
+    if (!s.fingersAfter.empty()) {
+      for (double t = s.eventStart; t < s.eventEnd - 1e-9; t += kKeyInterval) times.push_back(t);
+      times.push_back(s.eventEnd);
+    }
+    std::sort(times.begin(), times.end());
+    times.erase(std::unique(times.begin(), times.end(),
+                            [](double a, double b) { return std::abs(a - b) < 1e-9; }),
+                times.end());
+    times.push_back(s.duration);
+    for (double t : times) {
+      path.keys.emplace_back(t, ApplyMotion(GripMotionAt(s, t), pose.Apply(FingerGripAt(s, i, t))));
+    }
     paths.push_back(std::move(path));
   }
   if (s.motion == GraspMotion::kPush) {
@@ -181,10 +210,11 @@ std::vector<FingerPath> Paths(const GraspScene& s) {
     path.start = s.moveStart;
     const Vec2 at = pose.Apply(s.pusher.pos);
     const Vec2 in = Rotate(s.pusher.inward, pose.angle);
-    const Vec2 from = at - in * (s.pushDepth + kClearance + overhang(s.pusher.inward));
+    const Vec2 from = at - in * (s.pushDepth + kClearance + Overhang(s.object, s.pusher.inward));
     for (double t = s.moveStart; t < s.moveEnd - 1e-9; t += kKeyInterval) {
-      path.keys.emplace_back(
-          t, from + (at - from) * SmoothStep01((t - s.moveStart) / (s.moveEnd - s.moveStart)));
+      const double tau = (t - s.moveStart) / (s.moveEnd - s.moveStart);
+      const double along = s.profile == GraspProfile::kStep ? tau : SmoothStep01(tau);
+      path.keys.emplace_back(t, from + (at - from) * along);
     }
     path.keys.emplace_back(s.moveEnd, at);
     path.keys.emplace_back(s.duration, at);
@@ -197,13 +227,19 @@ std::vector<FingerPath> Paths(const GraspScene& s) {
 // varies, so the rule averages over kSamplePhases phases of the sampling: each(offset) is called
 // with every sample's offset from the fingertip's centre, and sums are divided by kSamplePhases.
 constexpr int kSamplePhases = 16;
+// A point inside a `hidden` disc (another fingertip whose outline merged with this one) is not
+// on the merged outline and is skipped.
 template <typename Each>
-void ForEachContourSample(double radius, double spacing, Each&& each) {
+void ForEachContourSample(double radius, double spacing, std::span<const HiddenDisc> hidden,
+                          Each&& each) {
   const int points = std::max(3, static_cast<int>(std::lround(2.0 * kPi * radius / spacing)));
   for (int phase = 0; phase < kSamplePhases; ++phase) {
     for (int i = 0; i < points; ++i) {
       const double a = 2.0 * kPi * (i + static_cast<double>(phase) / kSamplePhases) / points;
-      each(Vec2(radius * Vec2(std::cos(a), std::sin(a))));
+      const Vec2 along = radius * Vec2(std::cos(a), std::sin(a));
+      bool gone = false;
+      for (const HiddenDisc& h : hidden) gone = gone || (along - h.offset).norm() < h.radius;
+      if (!gone) each(along);
     }
   }
 }
@@ -303,19 +339,20 @@ int HoldQuota(const GraspSweepOptions& options) {
 }  // namespace
 
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
-                    const Vec2& center, double radius, const Vec2& inward) {
-  return FingertipForce(object, physics, spacing, center, center, radius, inward);
+                    const Vec2& center, double radius, const Vec2& inward,
+                    std::span<const HiddenDisc> hidden) {
+  return FingertipForce(object, physics, spacing, center, center, radius, inward, nullptr, hidden);
 }
 
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
-                    double* pressing) {
+                    double* pressing, std::span<const HiddenDisc> hidden) {
   const CrossSection slice = Slice0(object, physics);
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
   Vec2 total = Vec2::Zero();
   int bodies = 0;
-  ForEachContourSample(radius, spacing, [&](const Vec2& along) {
+  ForEachContourSample(radius, spacing, hidden, [&](const Vec2& along) {
     const Vec2 q = center + along;
     double d;  // how far the target lies beyond the body's centre, along the push
     Vec2 push;
@@ -348,13 +385,13 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 
 double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                       const Vec2& center, double radius, const Vec2& inward, double turn,
-                      double friction) {
+                      double friction, std::span<const HiddenDisc> hidden) {
   const CrossSection slice = Slice0(object, physics);
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
   const double c = std::cos(turn), s = std::sin(turn);
   double torque = 0.0;
-  ForEachContourSample(radius, spacing, [&](const Vec2& along) {
+  ForEachContourSample(radius, spacing, hidden, [&](const Vec2& along) {
     const Vec2 rest = center + along;
     const Vec2 q(c * rest.x() - s * rest.y(), s * rest.x() + c * rest.y());
     // where the body stopped as it came in (its centre), the normal it presses along, the point
@@ -561,33 +598,423 @@ GraspScene GenerateGraspScene(uint64_t seed, int index) {
   return s;
 }
 
-GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, double spacing) {
+GraspClasses GraspClasses::Legacy() {
+  GraspClasses c;
+  for (int i = 1; i < kGraspTopologyCount; ++i) c.topology[i] = false;
+  c.step = false;
+  return c;
+}
+
+bool GraspClasses::IsLegacy() const {
+  for (int i = 1; i < kGraspTopologyCount; ++i) {
+    if (topology[i]) return false;
+  }
+  return topology[0] && bangBang && !step;
+}
+
+Result<GraspClasses> ParseGraspClasses(const std::string& list) {
+  if (list.empty() || list == "all") return GraspClasses{};
+  if (list == "legacy") return GraspClasses::Legacy();
+  GraspClasses c;
+  for (bool& t : c.topology) t = false;
+  c.bangBang = c.step = false;
+  bool anyTopology = false, anyProfile = false;
+  std::istringstream names(list);
+  for (std::string name; std::getline(names, name, ',');) {
+    bool known = false;
+    for (int i = 0; i < kGraspTopologyCount; ++i) {
+      if (name == kGraspTopologyNames[i]) known = anyTopology = c.topology[i] = true;
+    }
+    if (name == "bang-bang") known = anyProfile = c.bangBang = true;
+    if (name == "step") known = anyProfile = c.step = true;
+    if (!known) {
+      return MakeError({}, "--classes: unknown class '" + name +
+                               "' (all, legacy, or a list of none, merged, merge, split, "
+                               "bang-bang, step)");
+    }
+  }
+  if (!anyTopology) {
+    for (bool& t : c.topology) t = true;
+  }
+  if (!anyProfile) c.bangBang = c.step = true;
+  return c;
+}
+
+const char* GraspEventPhase(const GraspScene& s) {
+  if (s.fingersAfter.empty()) return "";
+  if (s.eventEnd <= s.moveStart + 1e-9) return "before";
+  if (s.eventStart >= s.moveEnd - 1e-9) return "after";
+  return "during";
+}
+
+namespace {
+
+// the share of each topology among the classes drawn, and of steps among the profiles
+constexpr double kTopologyWeights[kGraspTopologyCount] = {0.4, 0.2, 0.2, 0.2};
+constexpr double kStepShare = 0.4;
+constexpr double kStepMaxSpeed = 15.0;  // cm/s, a carry's step
+constexpr double kEventTimeMin = 0.15;  // s a slide together or apart lasts, at least
+constexpr double kEventTimeMax = 0.3;   // s, at most
+
+// times the motion for its profile: a bang-bang motion's peak speed is twice its mean, a step's
+// speed is its mean
+void TimeMotion(GraspScene& s) {
+  const double factor = s.profile == GraspProfile::kStep ? 1.0 : 2.0;
+  if (s.motion == GraspMotion::kCarry) {
+    s.moveEnd = s.moveStart + factor * s.distance / s.speed;
+  } else if (s.motion == GraspMotion::kTurn) {
+    s.moveEnd = s.moveStart + factor * std::abs(s.turn) / s.turnRate;
+  } else if (s.profile == GraspProfile::kStep) {
+    // the pusher comes in at its speed from outside the footprint
+    const double way = s.pushDepth + kClearance + Overhang(s.object, s.pusher.inward);
+    s.moveEnd = s.moveStart + way / kPushSpeed;
+  } else {
+    s.moveEnd = s.moveStart + 1.5 * (s.pushDepth + kClearance) / kPushSpeed;
+  }
+  s.duration = s.moveEnd + kSettleTime;
+}
+
+// the object of a scene: shape and size drawn as the sweep before issue 42 draws them
+void DrawObject(Rng& rng, GraspScene& s, double sizeLo, double sizeHi) {
+  ObjectSpec& o = s.object;
+  o.points.clear();
+  const double size = rng.Uniform(sizeLo, sizeHi);
+  const double height = rng.Uniform(1.0, 4.0);
+  switch (s.shape) {
+    case GraspShape::kBox:
+      o.shape = ObjectShape::kBox;
+      o.sizeX = size;
+      o.sizeY = std::clamp(size * rng.Uniform(0.5, 1.5), 2.0, 12.0);
+      o.height = height;
+      break;
+    case GraspShape::kCylinder:
+      o.shape = ObjectShape::kCylinder;
+      o.radius = 0.5 * size;
+      o.height = height;
+      break;
+    case GraspShape::kSphere:
+      o.shape = ObjectShape::kSphere;
+      o.radius = 0.5 * (2.0 + 0.5 * (size - 2.0));
+      break;
+    case GraspShape::kTriangle:
+    case GraspShape::kHexagon:
+      o.shape = ObjectShape::kConvexPrism;
+      o.height = height;
+      for (const Vec2& p : RegularPolygon(s.shape == GraspShape::kTriangle ? 3 : 6, 0.5 * size)) {
+        o.points.push_back(p);
+      }
+      break;
+  }
+}
+
+// whether every two fingertips of `fingers` (and `more`) that are not both in `group` (the first
+// `group` fingers) keep kClearance between their contours
+bool KeepClear(const std::vector<GraspFinger>& fingers, size_t group) {
+  for (size_t i = 0; i < fingers.size(); ++i) {
+    for (size_t j = i + 1; j < fingers.size(); ++j) {
+      if (i < group && j < group) continue;
+      const double apart = (fingers[i].pos - fingers[j].pos).norm();
+      if (apart < fingers[i].radius + fingers[j].radius + kClearance - 1e-9) return false;
+    }
+  }
+  return true;
+}
+
+// A scene of a topology other than none (issue 42): two or three fingertips side by side on one
+// face against a thumb (or, on a triangle, against a fingertip on each other face) that touch from
+// the start, slide together or slide apart; or a pinch whose third finger pushes until its outline
+// merges with the pinch's.
+// Nothing when no object of the shape drawn takes the fingers (the caller draws a scene of
+// topology none instead).
+std::optional<GraspScene> GenerateTopologyScene(Rng& rng, uint64_t seed, int index,
+                                                GraspTopology topology, GraspProfile profile,
+                                                bool mayPush = true) {
+  GraspScene s;
+  s.index = index;
+  s.seed = seed;
+  s.topology = topology;
+  s.profile = profile;
+  const PhysicsParams physics;
+  ObjectSpec& o = s.object;
+  o.name = "object";
+  const double pick = rng.Uniform();
+  s.shape = pick < 0.35   ? GraspShape::kBox
+            : pick < 0.55 ? GraspShape::kCylinder
+            : pick < 0.70 ? GraspShape::kSphere
+            : pick < 0.80 ? GraspShape::kTriangle
+                          : GraspShape::kHexagon;
+  o.mass = rng.Uniform(20.0, 300.0);
+  o.tableStatic = rng.Uniform(0.2, 0.8);
+  o.tableKinetic = o.tableStatic * rng.Uniform(0.6, 0.9);
+  o.particleFriction = std::exp(rng.Uniform(std::log(0.05), std::log(1.2)));
+  o.pose.angle = rng.Uniform(0.0, 2.0 * kPi);
+  const double fingerRadius = rng.Uniform(0.6, 1.0);
+  const double drawnDepth = rng.Uniform(0.1, 1.5);
+  // touching contours reach `overlap` into each other; contours apart keep `gap` between them
+  const double overlap = rng.Uniform(0.1, 0.5) * fingerRadius;
+  const double gap = rng.Uniform(kClearance, kClearance + 0.6);
+  const double touchPitch = 2.0 * fingerRadius - overlap;
+  const double apartPitch = 2.0 * fingerRadius + gap;
+  const double m = rng.Uniform();
+  // a merging third finger pushes across a pinch: not on a triangle, which is caged
+  if (topology == GraspTopology::kMerge && mayPush && s.shape != GraspShape::kTriangle) {
+    s.motion = m < 0.2 ? GraspMotion::kPush : m < 0.65 ? GraspMotion::kCarry : GraspMotion::kTurn;
+  } else if (topology == GraspTopology::kMerge) {
+    s.motion = m < 0.65 ? GraspMotion::kCarry : GraspMotion::kTurn;
+  } else {
+    s.motion = m < 0.56 ? GraspMotion::kCarry : GraspMotion::kTurn;
+  }
+  const bool parallelFaces = s.shape == GraspShape::kBox || s.shape == GraspShape::kHexagon;
+  int nearCount = s.motion == GraspMotion::kPush ? 1 : 2;
+  if (topology == GraspTopology::kMerged && parallelFaces && rng.Uniform() < 0.25) nearCount = 3;
+  const double pushRadius = rng.Uniform(0.6, 1.0);
+  const double pushOverlap = rng.Uniform(0.1, 0.4), pushDepthDrawn = rng.Uniform(1.5, 2.5);
+  const double axisPick = rng.Uniform();
+
+  // the pitches of the side-by-side fingertips before and after their slide
+  const double pitchStart = topology == GraspTopology::kMerge ? apartPitch : touchPitch;
+  const double pitchEnd = topology == GraspTopology::kSplit ? apartPitch : touchPitch;
+  const double widest = std::max(pitchStart, pitchEnd);
+  bool placed = false;
+  for (int attempt = 0; attempt < 100 && !placed; ++attempt) {
+    // small objects for a merging pusher: it reaches the pinch's contours only there
+    const bool pushing = s.motion == GraspMotion::kPush;
+    DrawObject(rng, s, attempt >= 80 && !pushing ? 12.0 : 2.0, pushing ? 4.0 : 12.0);
+    const double depthDrawn = pushing ? rng.Uniform(0.1, 1.5) : drawnDepth;
+    const CrossSection slice = Slice0(o, physics);
+    s.fingers.clear();
+    s.fingersAfter.clear();
+    auto makeFinger = [&](const Vec2& pos, const Vec2& inward) {
+      GraspFinger f;
+      f.radius = fingerRadius;
+      f.pos = pos;
+      f.inward = inward;
+      return f;
+    };
+    if (s.shape == GraspShape::kTriangle) {
+      // caged: two fingertips side by side on the face whose normal is +x, one on each other face
+      s.grip = GraspGrip::kCaged;
+      const double reach = ReachAlong(slice, Vec2::UnitX());
+      if (widest + 2.0 * fingerRadius + kClearance > 2.0 * FaceHalfLength(slice, Vec2::UnitX())) {
+        continue;
+      }
+      auto place = [&](double depth, double pitch) {
+        std::vector<GraspFinger> f;
+        for (int i = 0; i < 3; ++i) {
+          const double a = 2.0 * kPi * i / 3.0;
+          const Vec2 out(std::cos(a), std::sin(a));
+          const Vec2 at = out * (reach + fingerRadius - depth);
+          if (i == 0) {
+            for (double side : {-0.5, 0.5}) {
+              f.push_back(makeFinger(at + Vec2(-out.y(), out.x()) * (side * pitch), -out));
+            }
+          } else {
+            f.push_back(makeFinger(at, -out));
+          }
+        }
+        return f;
+      };
+      s.depth = std::min(depthDrawn, std::max(0.1, 0.5 * std::sqrt(3.0) * reach - kClearance));
+      for (; s.depth >= 0.1; s.depth -= 0.05) {
+        if (KeepClear(place(s.depth, pitchStart), 2) && KeepClear(place(s.depth, pitchEnd), 2)) {
+          break;
+        }
+      }
+      if (s.depth < 0.1) continue;
+      s.fingers = place(s.depth, pitchStart);
+      if (topology == GraspTopology::kMerge || topology == GraspTopology::kSplit) {
+        s.fingersAfter = place(s.depth, pitchEnd);
+      }
+      placed = true;
+      continue;
+    }
+    // opposed: a thumb on one face, the fingertips side by side on the opposite one
+    s.grip = GraspGrip::kOpposed;
+    Vec2 axis = Vec2::UnitX();
+    if (s.shape == GraspShape::kBox && axisPick < 0.5) axis = Vec2::UnitY();
+    if (s.shape == GraspShape::kHexagon) {
+      const double a = kPi / 3.0 * std::floor(axisPick * 3.0);
+      axis = Vec2(std::cos(a), std::sin(a));
+    }
+    const Vec2 side(-axis.y(), axis.x());
+    const double half = ReachAlong(slice, axis);
+    const double groupPitch = nearCount > 1 ? widest : 0.0;
+    if (slice.circle) {
+      // the outer fingertips still press the round slice's near side
+      if (0.5 * (nearCount - 1) * groupPitch > 0.9 * slice.radius) continue;
+    } else if ((nearCount - 1) * groupPitch + 2.0 * fingerRadius + kClearance >
+               2.0 * FaceHalfLength(slice, -axis)) {
+      continue;
+    }
+    s.depth = std::min(depthDrawn, std::max(0.1, half - 0.5 * kClearance));
+    auto place = [&](double pitch) {
+      std::vector<GraspFinger> f;
+      f.push_back(makeFinger(-axis * (half + fingerRadius - s.depth), axis));
+      for (int i = 0; i < nearCount; ++i) {
+        f.push_back(makeFinger(
+            axis * (half + fingerRadius - s.depth) + side * ((i - 0.5 * (nearCount - 1)) * pitch),
+            -axis));
+      }
+      return f;
+    };
+    s.fingers = place(pitchStart);
+    if (!pushing) {
+      if (topology == GraspTopology::kMerge || topology == GraspTopology::kSplit) {
+        s.fingersAfter = place(pitchEnd);
+      }
+      placed = true;
+      continue;
+    }
+    // a pinch whose third finger comes in across it from the middle of a face until its contour
+    // overlaps the pinch's contours by pushOverlap cm (deeper than the drawn 1.5 to 2.5 cm where
+    // that is needed, up to 3 cm, its centre short of the object's)
+    GraspFinger& p = s.pusher;
+    p.radius = pushRadius;
+    p.inward = side;
+    const double reach = ReachAlong(slice, -side);
+    if (!slice.circle && p.radius + physics.particleRadius >= FaceHalfLength(slice, -side)) {
+      continue;
+    }
+    const double a = half + fingerRadius - s.depth;
+    const double meet = p.radius + fingerRadius - pushOverlap;
+    if (a >= meet) continue;
+    const double merged = reach + p.radius - std::sqrt(meet * meet - a * a);
+    s.pushDepth = std::max(pushDepthDrawn, merged);
+    if (s.pushDepth > std::min(3.0, reach + p.radius)) continue;
+    p.pos = -side * (reach + p.radius - s.pushDepth);
+    placed = true;
+  }
+  if (!placed && s.motion == GraspMotion::kPush) {
+    // no small object of this shape let the pusher reach the pinch: the fingers slide instead
+    s.motion = GraspMotion::kCarry;
+    return GenerateTopologyScene(rng, seed, index, topology, profile, false);
+  }
+  if (!placed) return std::nullopt;
+
+  s.moveStart = kMoveStart;
+  if (s.motion == GraspMotion::kCarry) {
+    const double a = rng.Uniform(0.0, 2.0 * kPi);
+    s.direction = Vec2(std::cos(a), std::sin(a));
+    s.distance = rng.Uniform(8.0, 14.0);
+    s.speed =
+        profile == GraspProfile::kStep ? rng.Uniform(5.0, kStepMaxSpeed) : rng.Uniform(5.0, 30.0);
+    o.pose.pos = kTableCentre - s.direction * (0.5 * s.distance);
+  } else if (s.motion == GraspMotion::kTurn) {
+    s.turn = DegToRad(rng.Uniform(60.0, 180.0)) * (rng.Uniform() < 0.5 ? -1.0 : 1.0);
+    s.turnRate = DegToRad(rng.Uniform(30.0, 120.0));
+    o.pose.pos = kTableCentre;
+  } else {
+    o.pose.pos = kTableCentre;
+  }
+  TimeMotion(s);
+  if (!s.fingersAfter.empty()) {
+    // the slide, before, during or after the motion
+    const double span = rng.Uniform(kEventTimeMin, kEventTimeMax);
+    const double when = rng.Uniform();
+    if (when < 1.0 / 3.0) {
+      const double lo = kApproachTime + 0.05, hi = std::max(lo, kMoveStart - 0.05 - span);
+      s.eventStart = rng.Uniform(lo, hi);
+    } else if (when < 2.0 / 3.0) {
+      s.eventStart = rng.Uniform(s.moveStart, std::max(s.moveStart, s.moveEnd - span));
+    } else {
+      s.eventStart = rng.Uniform(s.moveEnd + 0.05, s.moveEnd + 0.3);
+    }
+    s.eventEnd = s.eventStart + span;
+    s.duration = std::max(s.duration, s.eventEnd + 0.5);
+  }
+  return s;
+}
+
+}  // namespace
+
+GraspScene GenerateGraspScene(uint64_t seed, int index, const GraspClasses& classes) {
+  if (classes.IsLegacy()) return GenerateGraspScene(seed, index);
+  // the scene's class, from a stream of its own
+  Rng rng(seed * 2654435761ULL + static_cast<uint64_t>(index) * 40503ULL + 0x5151ULL);
+  double total = 0.0;
+  for (int i = 0; i < kGraspTopologyCount; ++i)
+    total += classes.topology[i] ? kTopologyWeights[i] : 0;
+  double pick = rng.Uniform() * total;
+  GraspTopology topology = GraspTopology::kNone;
+  for (int i = 0; i < kGraspTopologyCount; ++i) {
+    if (!classes.topology[i]) continue;
+    topology = static_cast<GraspTopology>(i);
+    pick -= kTopologyWeights[i];
+    if (pick < 0.0) break;
+  }
+  const double stepPick = rng.Uniform();
+  const GraspProfile profile = !classes.step           ? GraspProfile::kBangBang
+                               : !classes.bangBang     ? GraspProfile::kStep
+                               : stepPick < kStepShare ? GraspProfile::kStep
+                                                       : GraspProfile::kBangBang;
+  if (topology != GraspTopology::kNone) {
+    if (std::optional<GraspScene> s = GenerateTopologyScene(rng, seed, index, topology, profile)) {
+      return *s;
+    }
+  }
+  // none: the scene of the sweep before issue 42, its motion made a step if that is drawn
+  GraspScene s = GenerateGraspScene(seed, index);
+  s.profile = profile;
+  if (profile == GraspProfile::kStep) {
+    if (s.motion == GraspMotion::kCarry) s.speed = rng.Uniform(5.0, kStepMaxSpeed);
+    if (s.motion == GraspMotion::kTurn) s.turnRate = DegToRad(rng.Uniform(30.0, 120.0));
+    TimeMotion(s);
+  }
+  return s;
+}
+
+namespace {
+
+// The rule for the fingers where they are (docs/physics.md, "Grasp sweep"): PredictGrasp takes
+// it over the configurations a slide passes through.
+GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics, double spacing) {
   GraspPrediction p;
   const ObjectSpec& o = s.object;
   const MassProps mass = ComputeMassProps(o);
   const double g = physics.gravity;
   const double weight = mass.mass * g;
   const double muP = o.particleFriction >= 0 ? o.particleFriction : physics.particleFriction;
-  auto force = [&](const GraspFinger& f, const Vec2& shift) {
+  const bool step = s.profile == GraspProfile::kStep;
+  // Fingertips whose outlines overlap press as the outline of their union: each loses its
+  // contour points inside the others (a merging pusher counts at its deepest). They move
+  // together, so the offsets hold whatever the object does.
+  std::vector<GraspFinger> all = s.fingers;
+  if (s.motion == GraspMotion::kPush) all.push_back(s.pusher);
+  std::vector<std::vector<HiddenDisc>> hidden(all.size());
+  for (size_t i = 0; i < all.size(); ++i) {
+    for (size_t j = 0; j < all.size(); ++j) {
+      const Vec2 offset = all[j].pos - all[i].pos;
+      if (j != i && offset.norm() < all[i].radius + all[j].radius) {
+        hidden[i].push_back({offset, all[j].radius});
+      }
+    }
+  }
+  const size_t fingers = s.fingers.size();
+  auto force = [&](size_t i, const Vec2& shift) {
     // the object moved by `shift`: in its frame the finger moved by -shift
-    return FingertipForce(o, physics, spacing, f.pos - shift, f.radius, f.inward);
+    const GraspFinger& f = s.fingers[i];
+    return FingertipForce(o, physics, spacing, f.pos - shift, f.radius, f.inward, hidden[i]);
   };
   // the same with the object lagging from its rest shift: the bodies stay where they met it
   // (`pressing`: how many of them press)
-  auto laggedForce = [&](const GraspFinger& f, const Vec2& rest, const Vec2& shift,
+  auto laggedForce = [&](size_t i, const Vec2& rest, const Vec2& shift,
                          double* pressing = nullptr) {
+    const GraspFinger& f = s.fingers[i];
     return FingertipForce(o, physics, spacing, f.pos - rest, f.pos - shift, f.radius, f.inward,
-                          pressing);
+                          pressing, hidden[i]);
   };
 
-  // the grip at rest: opposed sides balance where the object settles between them
+  // The grip at rest: where the sides press unequally (more fingertips against a thumb, or two on
+  // one face of a cage) the object settles where they balance. The grip is symmetric about the
+  // first fingertip's line of push, so the object moves along it.
   Vec2 shift = Vec2::Zero();
-  if (s.grip == GraspGrip::kOpposed && s.fingers.size() > 2) {
+  if ((s.grip == GraspGrip::kOpposed && fingers > 2) ||
+      (s.grip == GraspGrip::kCaged && fingers > 3)) {
     const Vec2 axis = s.fingers.front().inward;
     auto imbalance = [&](double d) {
       Vec2 sum = Vec2::Zero();
-      for (const GraspFinger& f : s.fingers) sum += force(f, axis * d);
-      return sum.dot(axis);  // falls as the object moves along the thumb's push
+      for (size_t i = 0; i < fingers; ++i) sum += force(i, axis * d);
+      return sum.dot(axis);  // falls as the object moves along the first fingertip's push
     };
     double lo = -(s.depth + 2.0), hi = s.depth + 2.0;
     for (int i = 0; i < 60; ++i) {
@@ -598,31 +1025,79 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
   }
   // the normal force at rest, and how many bodies press
   double bodiesAtRest = 0.0;
-  for (const GraspFinger& f : s.fingers) {
+  for (size_t i = 0; i < fingers; ++i) {
     double pressing = 0.0;
-    p.normalForce += laggedForce(f, shift, shift, &pressing).norm();
+    p.normalForce += laggedForce(i, shift, shift, &pressing).norm();
     bodiesAtRest += pressing;
   }
 
-  // what the normal forces of every fingertip, together, can push along u while the object lags
-  // behind the grip by up to d_max (a lag the springs take back when the grip stops): the leading
-  // fingertips press deeper and the trailing ones let go. Fingertips larger than a round slice
-  // press less when pushed past its centre, so every lag up to d_max is tried.
+  // what the normal forces of every fingertip, together, push along u with the object lagging
+  // `lag` behind the grip along u
+  auto pushAt = [&](const Vec2& u, double lag) {
+    Vec2 sum = Vec2::Zero();
+    for (size_t i = 0; i < fingers; ++i) sum += laggedForce(i, shift, shift - u * lag);
+    return sum.dot(u);
+  };
+  // what they can push along u while the object lags behind the grip by up to d_max (a lag the
+  // springs take back when the grip stops): the leading fingertips press deeper and the trailing
+  // ones let go. Fingertips larger than a round slice press less when pushed past its centre, so
+  // every lag up to d_max is tried.
   auto pushCapacity = [&](const Vec2& u) {
     double best = 0.0;
     constexpr int kLags = 16;
-    for (int j = 1; j <= kLags; ++j) {
-      const Vec2 lagged = shift - u * (physics.gripMaxDepth * j / kLags);
-      Vec2 sum = Vec2::Zero();
-      for (const GraspFinger& f : s.fingers) sum += laggedForce(f, shift, lagged);
-      best = std::max(best, sum.dot(u));
+    for (int j = 1; j <= kLags; ++j)
+      best = std::max(best, pushAt(u, physics.gripMaxDepth * j / kLags));
+    return best;
+  };
+  // A velocity step (issue 42): the grip starts at speed v within a frame while the object rests.
+  // It stays put until the grip's force reaches static friction (at lag L0), then slides against
+  // kinetic friction while the springs push it on; it catches up once the springs have taken its
+  // kinetic energy relative to the grip, 1/2 M v^2 (in the grip's frame the object comes in at v
+  // and the springs stop it): E(L) = integral from L0 to L of (F(x) - mu_k W) dx must reach it
+  // within the lag the grip gives back, L <= `limit`. The fastest step it catches is
+  // sqrt(2 max E / M). Stopping, the object runs on at v and the springs and the table's
+  // friction together stop it: integral from 0 of (F(x) + mu_k W) dx. `forceAt(L)` is the
+  // grip's force along the motion at lag L (its magnitude for breaking loose in `looseAt`).
+  constexpr int kStepLags = 64;
+  // the most energy a force gives over a lag from `from` to `limit` against `resist`
+  auto energyFrom = [&](auto&& forceAt, double from, double limit, double resist) {
+    if (from >= limit) return 0.0;
+    double energy = 0.0, best = 0.0, previous = forceAt(from) - resist;
+    for (int j = 1; j <= kStepLags; ++j) {
+      const double l = from + (limit - from) * j / kStepLags;
+      const double f = forceAt(l) - resist;
+      energy += 0.5 * (previous + f) * (limit - from) / kStepLags;
+      best = std::max(best, energy);
+      previous = f;
     }
     return best;
   };
+  auto catchUp = [&](auto&& forceAt, auto&& looseAt, double limit, double staticLimit,
+                     double kinetic, double inertia, bool stopping) {
+    double energy = 0.0, best = 0.0;
+    bool loose = stopping;
+    double previous = 0.0;
+    for (int j = 0; j <= kStepLags; ++j) {
+      const double l = limit * j / kStepLags;
+      const double f = forceAt(l) + (stopping ? kinetic : -kinetic);
+      if (!loose && looseAt(l) >= staticLimit) {
+        loose = true;
+        previous = f;
+        continue;
+      }
+      if (loose && j > 0) {
+        energy += 0.5 * (previous + f) * (limit / kStepLags);
+        best = std::max(best, energy);
+      }
+      previous = f;
+    }
+    return std::sqrt(2.0 * best / inertia);
+  };
 
   if (s.motion == GraspMotion::kCarry) {
-    const double a = s.speed * s.speed / s.distance;  // bang-bang: v^2 / D
-    // to break loose from the table, then to accelerate while sliding
+    const double a = step ? 0.0 : s.speed * s.speed / s.distance;  // bang-bang: v^2 / D
+    // to break loose from the table, then to accelerate while sliding (a step: to slide on at
+    // its speed, and to catch up, below)
     const double breakLoose = o.tableStatic * weight;
     const double sliding = o.tableKinetic * weight + mass.mass * a;
     p.requirement = std::max(breakLoose, sliding);
@@ -660,23 +1135,33 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
       // grip would leave the object that far behind for good.
       const double k = physics.gripStiffness;
       double looseForce = 0.0;
-      // the force with the object lagging l along the axis and `acrossLag` across it
-      auto breakingForce = [&](double l, double acrossLag, double& elastic) {
+      // the force with the object lagging l along the axis and `acrossLag` across it: along
+      // the axis, across it, and how far across the springs stretch before friction slides
+      struct Lagged {
+        double axial = 0.0, held = 0.0, elastic = 0.0;
+      };
+      auto laggedGrip = [&](const Vec2& dir, double l, double acrossLag) {
         Vec2 sum = Vec2::Zero();
         double normalSum = 0.0, bodies = 0.0;
-        for (const GraspFinger& f : s.fingers) {
+        for (size_t i = 0; i < fingers; ++i) {
           double pressing = 0.0;
-          const Vec2 force = laggedForce(f, shift, shift - lead * l, &pressing);
+          const Vec2 force = laggedForce(i, shift, shift - dir * l, &pressing);
           sum += force;
           normalSum += force.norm();
           bodies += pressing;
         }
-        // how far across the bodies' springs stretch before their friction slides, cm
-        elastic = bodies > 0.0 ? muP * normalSum / (k * bodies) : 0.0;
-        const double held =
-            std::min(k * bodies * std::min(acrossLag, elastic + kBreakLooseSlip), muP * normalSum) *
-            keep;
-        return std::hypot(std::max(sum.dot(lead), 0.0), held);
+        Lagged r;
+        r.elastic = bodies > 0.0 ? muP * normalSum / (k * bodies) : 0.0;
+        r.held = std::min(k * bodies * std::min(acrossLag, r.elastic + kBreakLooseSlip),
+                          muP * normalSum) *
+                 keep;
+        r.axial = std::max(sum.dot(dir), 0.0);
+        return r;
+      };
+      auto breakingForce = [&](double l, double acrossLag, double& elastic) {
+        const Lagged r = laggedGrip(lead, l, acrossLag);
+        elastic = r.elastic;
+        return std::hypot(r.axial, r.held);
       };
       constexpr int kLags = 32;
       for (int j = 0; j <= kLags; ++j) {
@@ -696,44 +1181,165 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
       }
       const double looseMargin = breakLoose > 0.0 ? looseForce / breakLoose : kInfinity;
       p.margin = std::min(slideMargin, looseMargin);
+      if (step) {
+        // The step, opposed: along the axis the leading side's normal forces catch the object
+        // up, across it only the springs up to friction, and each must take its own share of
+        // the kinetic energy, 1/2 M (v cos)^2 and 1/2 M (v sin)^2, against its share of kinetic
+        // friction, mu_k W cos and mu_k W sin (as for sliding): a push along the axis does not
+        // give the object speed across it. The object breaks loose (the grip's force reaching
+        // mu_s W in any direction, as above) at a lag L0 along u, L0 cos along the axis and L0
+        // sin across; the lag the grip gives back is d_max along the axis and across the
+        // springs' stretch plus the slip allowed for breaking loose.
+        const double elastic = laggedGrip(lead, 0.0, 0.0).elastic;
+        const double acrossLimit = elastic + kBreakLooseSlip;
+        double lagLimit = cosE > 1e-9 ? physics.gripMaxDepth / cosE : kInfinity;
+        if (sinE > 1e-9) lagLimit = std::min(lagLimit, acrossLimit / sinE);
+        double looseLag = kInfinity;
+        for (int j = 0; j <= kStepLags; ++j) {
+          const double lag = lagLimit * j / kStepLags;
+          const Lagged r = laggedGrip(lead, lag * cosE, lag * sinE);
+          if (std::hypot(r.axial, r.held) >= breakLoose) {
+            looseLag = lag;
+            break;
+          }
+        }
+        const double kinetic = o.tableKinetic * weight;
+        auto speedFor = [&](const Vec2& dir, double from, double sign) {
+          // the fastest step each direction catches (or stops, sign +1: friction helps)
+          const double axial =
+              energyFrom([&](double l) { return laggedGrip(dir, l, 0.0).axial; }, from * cosE,
+                         physics.gripMaxDepth, -sign * kinetic * cosE);
+          const double acrossEnergy =
+              energyFrom([&](double x) { return laggedGrip(dir, 0.0, x).held; }, from * sinE,
+                         acrossLimit, -sign * kinetic * sinE);
+          const double vAxial = cosE > 1e-9 ? std::sqrt(2.0 * axial / mass.mass) / cosE : kInfinity;
+          const double vAcross =
+              sinE > 1e-9 ? std::sqrt(2.0 * acrossEnergy / mass.mass) / sinE : kInfinity;
+          return std::min(vAxial, vAcross);
+        };
+        p.catchUpSpeed = std::isfinite(looseLag) ? speedFor(lead, looseLag, -1.0) : 0.0;
+        p.stopSpeed = speedFor(-lead, 0.0, 1.0);
+        p.margin = std::min({p.margin, p.catchUpSpeed / s.speed, p.stopSpeed / s.speed});
+      }
       p.capacity = p.margin * p.requirement;
     } else {
       // caged: the fingertips push it in any direction
       p.margin = pushCapacity(u) / p.requirement;
+      if (step) {
+        const double limit = physics.gripMaxDepth;
+        auto along = [&](const Vec2& dir) {
+          return [&, dir](double lag) { return pushAt(dir, lag); };
+        };
+        p.catchUpSpeed = catchUp(along(u), along(u), limit, breakLoose, o.tableKinetic * weight,
+                                 mass.mass, false);
+        p.stopSpeed = catchUp(along(-u), along(-u), limit, breakLoose, o.tableKinetic * weight,
+                              mass.mass, true);
+        p.margin = std::min({p.margin, p.catchUpSpeed / s.speed, p.stopSpeed / s.speed});
+      }
       p.capacity = p.margin * p.requirement;
     }
   } else if (s.motion == GraspMotion::kTurn) {
-    const double alpha = s.turnRate * s.turnRate / std::abs(s.turn);  // bang-bang: w^2 / theta
+    const double alpha = step ? 0.0 : s.turnRate * s.turnRate / std::abs(s.turn);  // w^2 / theta
     const double rEff = EffectiveFrictionRadius(o, mass.centroid);
     p.requirement = std::max(o.tableStatic * weight * rEff,
                              o.tableKinetic * weight * rEff + mass.inertia * alpha);
     const double turnSign = s.turn >= 0.0 ? 1.0 : -1.0;
-    // What the grip gives once the object lags the turn by the angle that still counts as
-    // following (sixth revision): in the object's frame each fingertip has turned on by that
-    // angle about its centre. Each body pulls along the surface as a spring until its friction
-    // slides, from the pull it already had at rest, and presses by its target's new depth (a body
-    // that slides follows its target along its face).
-    for (const GraspFinger& f : s.fingers) {
-      const Vec2 at = f.pos - shift;
-      p.capacity +=
-          turnSign * (GripTurnTorque(o, physics, spacing, at, f.radius, f.inward,
-                                     turnSign * kFollowAngle, muP) -
-                      GripTurnTorque(o, physics, spacing, at, f.radius, f.inward, 0.0, muP));
+    // What the grip gives once the object lags the turn by `lag` (sixth revision: at the angle
+    // that still counts as following): in the object's frame each fingertip has turned on by
+    // that angle about its centre. Each body pulls along the surface as a spring until its
+    // friction slides, from the pull it already had at rest, and presses by its target's new
+    // depth (a body that slides follows its target along its face).
+    std::vector<double> atRest(fingers);
+    for (size_t i = 0; i < fingers; ++i) {
+      const GraspFinger& f = s.fingers[i];
+      atRest[i] = GripTurnTorque(o, physics, spacing, f.pos - shift, f.radius, f.inward, 0.0, muP,
+                                 hidden[i]);
     }
+    auto gripTorque = [&](double sign, double lag) {
+      double torque = 0.0;
+      for (size_t i = 0; i < fingers; ++i) {
+        const GraspFinger& f = s.fingers[i];
+        torque += sign * (GripTurnTorque(o, physics, spacing, f.pos - shift, f.radius, f.inward,
+                                         sign * lag, muP, hidden[i]) -
+                          atRest[i]);
+      }
+      return torque;
+    };
+    p.capacity = gripTorque(turnSign, kFollowAngle);
     p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
+    if (step) {
+      // a step of the turn rate: as for a carry's step, with torques, the inertia and the
+      // 5 degrees of lag that still count as following
+      auto torqueAt = [&](double sign) {
+        return [&, sign](double lag) { return gripTorque(sign, lag); };
+      };
+      const double staticTorque = o.tableStatic * weight * rEff;
+      const double kineticTorque = o.tableKinetic * weight * rEff;
+      p.catchUpSpeed = catchUp(torqueAt(turnSign), torqueAt(turnSign), kFollowAngle, staticTorque,
+                               kineticTorque, mass.inertia, false);
+      p.stopSpeed = catchUp(torqueAt(-turnSign), torqueAt(-turnSign), kFollowAngle, staticTorque,
+                            kineticTorque, mass.inertia, true);
+      p.margin = std::min({p.margin, p.catchUpSpeed / s.turnRate, p.stopSpeed / s.turnRate});
+      p.capacity = p.margin * p.requirement;
+    }
   } else {
     // The pusher is a finger held at its depth, not a force: an object it pushes away presses
     // it less. It follows (stays within kFollowDistance) when the grip's friction and the table's
-    // static friction resist the push that is left once the object has moved that far.
+    // static friction resist the push that is left once the object has moved that far. A pusher
+    // whose outline merged with the grip's presses with what is left of its contour, and takes
+    // from the grip's contours what lies inside it.
     const Vec2 backed = s.pusher.pos - shift - kFollowDistance * s.pusher.inward;
     p.requirement =
-        FingertipForce(o, physics, spacing, backed, s.pusher.radius, s.pusher.inward).norm();
+        FingertipForce(o, physics, spacing, backed, s.pusher.radius, s.pusher.inward, hidden.back())
+            .norm();
     p.capacity = muP * p.normalForce + o.tableStatic * weight;
     p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
   }
   p.canHold = p.margin >= 1.0;
   p.nearBoundary = p.margin >= 1.0 - kBoundaryBand && p.margin <= 1.0 + kBoundaryBand;
+  p.marginMax = p.margin;
   return p;
+}
+
+}  // namespace
+
+GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, double spacing) {
+  if (s.fingersAfter.empty()) return PredictConfig(s, physics, spacing);
+  // Fingers that slide together or apart: the rule is taken for the configurations present
+  // while the grip moves. A slide before the motion leaves the configuration after it, one after
+  // the motion the one before it; a slide during the motion passes through every one between
+  // (taken at fifths of the slide). The scene can hold when the least margin can; it cannot when
+  // the greatest cannot; otherwise which configuration meets the motion's demand decides, and
+  // the rule does not say: it is reported with the boundary (not scored).
+  std::vector<double> fractions;
+  const std::string phase = GraspEventPhase(s);
+  if (phase == "before") {
+    fractions = {1.0};
+  } else if (phase == "after") {
+    fractions = {0.0};
+  } else {
+    fractions = {0.0, 0.2, 0.4, 0.6, 0.8, 1.0};
+  }
+  GraspPrediction least;
+  double most = -kInfinity;
+  bool first = true;
+  for (double f : fractions) {
+    GraspScene config = s;
+    config.fingersAfter.clear();
+    for (size_t i = 0; i < s.fingers.size(); ++i) {
+      config.fingers[i].pos = s.fingers[i].pos + (s.fingersAfter[i].pos - s.fingers[i].pos) * f;
+    }
+    const GraspPrediction p = PredictConfig(config, physics, spacing);
+    most = std::max(most, p.margin);
+    if (first || p.margin < least.margin) least = p;
+    first = false;
+  }
+  least.marginMax = most;
+  least.canHold = least.margin >= 1.0;
+  least.nearBoundary =
+      (least.margin >= 1.0 - kBoundaryBand && least.margin <= 1.0 + kBoundaryBand) ||
+      (least.margin < 1.0 - kBoundaryBand && most >= 1.0 - kBoundaryBand);
+  return least;
 }
 
 std::string GraspSceneToml(const GraspScene& s, const GraspPrediction& prediction) {
@@ -745,12 +1351,25 @@ std::string GraspSceneToml(const GraspScene& s, const GraspPrediction& predictio
     << s.index << "): a " << kGraspShapeNames[static_cast<int>(s.shape)] << " gripped by "
     << s.fingers.size() << " fingertips ("
     << (s.grip == GraspGrip::kCaged ? "at 120 degrees" : "on opposite faces") << "), contours "
-    << s.depth << " cm inside, then a " << kGraspMotionNames[static_cast<int>(s.motion)]
-    << ".\"\"\"\n\n";
+    << s.depth << " cm inside, then a " << kGraspMotionNames[static_cast<int>(s.motion)] << " ("
+    << kGraspProfileNames[static_cast<int>(s.profile)]
+    << "); outlines: " << kGraspTopologyNames[static_cast<int>(s.topology)];
+  if (!s.fingersAfter.empty()) {
+    t << " (the fingers slide from " << s.eventStart << " to " << s.eventEnd << " s, "
+      << GraspEventPhase(s) << " the motion)";
+  }
+  t << ".\"\"\"\n\n";
   t << "# The hold rule (docs/physics.md, \"Grasp sweep\"): grip normal force "
     << prediction.normalForce << " dyn, capacity " << prediction.capacity << ", requirement "
     << prediction.requirement << (s.motion == GraspMotion::kTurn ? " dyn cm" : " dyn")
-    << ", margin " << prediction.margin << ": "
+    << ", margin " << prediction.margin;
+  if (prediction.marginMax > prediction.margin)
+    t << " (to " << prediction.marginMax << " while the fingers slide)";
+  if (s.profile == GraspProfile::kStep && s.motion != GraspMotion::kPush) {
+    t << ", step: catches up to " << prediction.catchUpSpeed << ", stops from "
+      << prediction.stopSpeed << (s.motion == GraspMotion::kTurn ? " rad/s" : " cm/s");
+  }
+  t << ": "
     << (prediction.nearBoundary ? "near the boundary (not scored)"
         : prediction.canHold    ? "can hold"
                                 : "cannot hold")
@@ -848,6 +1467,39 @@ Result<GraspOutcome> RunGraspScene(const GraspScene& s, int substeps,
   return out;
 }
 
+namespace {
+
+// the rates at each substep count of the scenes `in` takes
+template <typename In>
+std::vector<GraspRates> ScoreRates(const GraspSweepReport& report, In&& in) {
+  std::vector<GraspRates> all;
+  for (size_t k = 0; k < report.options.substeps.size(); ++k) {
+    GraspRates rates;
+    rates.substeps = report.options.substeps[k];
+    for (const GraspSceneResult& r : report.scenes) {
+      if (!in(r)) continue;
+      const GraspOutcome& o = r.outcomes[k];
+      rates.ejections += o.ejected ? 1 : 0;
+      rates.worstSpeedRatio = std::max(
+          rates.worstSpeedRatio, o.peakSpeed / (kSpeedFactor * o.contactSpeed + kSpeedAllowance));
+      if (r.prediction.nearBoundary) {
+        ++rates.boundaryScenes;
+      } else if (r.prediction.canHold) {
+        ++rates.holdScenes;
+        rates.holdFollowed += o.followed ? 1 : 0;
+        rates.worstHoldError = std::max(rates.worstHoldError, o.endError);
+      } else {
+        ++rates.slipScenes;
+        rates.slipSlipped += o.followed ? 0 : 1;
+      }
+    }
+    all.push_back(rates);
+  }
+  return all;
+}
+
+}  // namespace
+
 Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
   if (options.scenes < 1) {
     return MakeError({}, "--count must be at least 1 (got " + std::to_string(options.scenes) + ")");
@@ -868,6 +1520,11 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
     got << options.holdShare;
     return MakeError({}, "--hold-share must be in [0.5, 1] (got " + got.str() + ")");
   }
+  const GraspClasses& c = options.classes;
+  if (!(c.bangBang || c.step) ||
+      std::none_of(std::begin(c.topology), std::end(c.topology), [](bool on) { return on; })) {
+    return MakeError({}, "--classes names no topology or no profile");
+  }
   GraspSweepReport report;
   report.options = options;
   LevelParams defaults;
@@ -880,7 +1537,7 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
   int kept = 0, keptHold = 0;
   for (int i = 0; kept < options.scenes; ++i) {
     GraspSceneResult r;
-    r.scene = GenerateGraspScene(options.seed, i);
+    r.scene = GenerateGraspScene(options.seed, i, options.classes);
     r.prediction = PredictGrasp(r.scene, defaults.physics, defaults.sensing.spacing);
     report.draws = i + 1;
     const bool hold = r.prediction.canHold && !r.prediction.nearBoundary;
@@ -898,7 +1555,8 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
   // every (scene, substep count) is independent
   const size_t jobs = report.scenes.size() * options.substeps.size();
   std::atomic<size_t> next{0};
-  std::mutex errorMutex;
+  size_t done = 0;
+  std::mutex errorMutex, progressMutex;
   std::optional<Error> firstError;
   auto work = [&] {
     for (size_t j = next++; j < jobs; j = next++) {
@@ -911,6 +1569,10 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
         std::lock_guard<std::mutex> lock(errorMutex);
         if (!firstError) firstError = o.error();
       }
+      if (options.progress) {
+        std::lock_guard<std::mutex> lock(progressMutex);
+        options.progress(++done, jobs);
+      }
     }
   };
   std::vector<std::thread> pool;
@@ -919,26 +1581,38 @@ Result<GraspSweepReport> RunGraspSweep(const GraspSweepOptions& options) {
   for (std::thread& t : pool) t.join();
   if (firstError) return *firstError;
 
-  for (size_t k = 0; k < options.substeps.size(); ++k) {
-    GraspRates rates;
-    rates.substeps = options.substeps[k];
-    for (const GraspSceneResult& r : report.scenes) {
-      const GraspOutcome& o = r.outcomes[k];
-      rates.ejections += o.ejected ? 1 : 0;
-      rates.worstSpeedRatio = std::max(
-          rates.worstSpeedRatio, o.peakSpeed / (kSpeedFactor * o.contactSpeed + kSpeedAllowance));
-      if (r.prediction.nearBoundary) {
-        ++rates.boundaryScenes;
-      } else if (r.prediction.canHold) {
-        ++rates.holdScenes;
-        rates.holdFollowed += o.followed ? 1 : 0;
-        rates.worstHoldError = std::max(rates.worstHoldError, o.endError);
-      } else {
-        ++rates.slipScenes;
-        rates.slipSlipped += o.followed ? 0 : 1;
-      }
+  report.rates = ScoreRates(report, [](const GraspSceneResult&) { return true; });
+  // per shape, motion and profile, topology and when the fingers slide
+  auto addClass = [&](const std::string& group, const std::string& name, auto&& in) {
+    GraspClassRates c;
+    c.group = group;
+    c.name = name;
+    for (const GraspSceneResult& r : report.scenes) c.scenes += in(r) ? 1 : 0;
+    if (c.scenes == 0) return;
+    c.rates = ScoreRates(report, in);
+    report.classRates.push_back(std::move(c));
+  };
+  for (int i = 0; i < 5; ++i) {
+    addClass("shape", kGraspShapeNames[i],
+             [i](const GraspSceneResult& r) { return static_cast<int>(r.scene.shape) == i; });
+  }
+  for (int m = 0; m < 3; ++m) {
+    for (int f = 0; f < 2; ++f) {
+      addClass("motion", std::string(kGraspMotionNames[m]) + " " + kGraspProfileNames[f],
+               [m, f](const GraspSceneResult& r) {
+                 return static_cast<int>(r.scene.motion) == m &&
+                        static_cast<int>(r.scene.profile) == f;
+               });
     }
-    report.rates.push_back(rates);
+  }
+  for (int i = 0; i < kGraspTopologyCount; ++i) {
+    addClass("topology", kGraspTopologyNames[i],
+             [i](const GraspSceneResult& r) { return static_cast<int>(r.scene.topology) == i; });
+  }
+  for (const char* phase : {"before", "during", "after"}) {
+    addClass("slide", phase, [phase](const GraspSceneResult& r) {
+      return std::string(GraspEventPhase(r.scene)) == phase;
+    });
   }
 
   if (!options.failuresDir.empty()) {
@@ -987,6 +1661,9 @@ std::string SceneLabel(const GraspScene& s) {
   } else {
     t << " " << std::setprecision(2) << s.pushDepth << " cm deep";
   }
+  t << " (" << kGraspProfileNames[static_cast<int>(s.profile)] << "), outlines "
+    << kGraspTopologyNames[static_cast<int>(s.topology)];
+  if (!s.fingersAfter.empty()) t << " " << GraspEventPhase(s) << " the motion";
   return t.str();
 }
 
@@ -1026,7 +1703,29 @@ std::string FormatGraspSweep(const GraspSweepReport& report) {
       << "\n";
   }
   t << "\n(worst speed: peak object speed / (1.5 x fastest contact + 5 cm/s); above 1 is an "
-       "ejection)\n\nscenes the rule got wrong, or ejections:\n";
+       "ejection)\n";
+  if (!report.classRates.empty()) {
+    t << "\nby class: held&followed, slipping&slipped, ejections at each substep count\n";
+    std::string group;
+    for (const GraspClassRates& c : report.classRates) {
+      if (c.group != group) {
+        group = c.group;
+        t << "  " << group << "\n";
+      }
+      const GraspRates& first = c.rates.front();
+      t << "    " << std::left << std::setw(16) << c.name << std::right << std::setw(4) << c.scenes
+        << " (" << first.holdScenes << "/" << first.slipScenes << "/" << first.boundaryScenes
+        << ")";
+      for (const GraspRates& r : c.rates) {
+        t << " | " << r.substeps << ": " << r.holdFollowed << "/" << r.holdScenes << " "
+          << std::setprecision(1) << 100.0 * r.HoldRate() << "%, " << r.slipSlipped << "/"
+          << r.slipScenes << " " << 100.0 * r.SlipRate() << "%, " << r.ejections;
+      }
+      t << "\n";
+    }
+    t << "  (scenes: can hold / cannot / near the boundary)\n";
+  }
+  t << "\nscenes the rule got wrong, or ejections:\n";
   int listed = 0;
   for (const GraspSceneResult& r : report.scenes) {
     bool wrong = false;
@@ -1056,6 +1755,8 @@ std::string GraspSweepJson(const GraspSweepReport& report) {
   t << std::setprecision(6);
   t << "{\n  \"seed\": " << report.options.seed << ",\n  \"scenes\": " << report.scenes.size()
     << ",\n  \"draws\": " << report.draws << ",\n  \"hold_share\": " << report.options.holdShare
+    << ",\n  \"classes_drawn\": \"" << (report.options.classes.IsLegacy() ? "legacy" : "issue 42")
+    << "\""
     << ",\n  \"rates\": [";
   for (size_t k = 0; k < report.rates.size(); ++k) {
     const GraspRates& r = report.rates[k];
@@ -1067,13 +1768,34 @@ std::string GraspSweepJson(const GraspSweepReport& report) {
       << ", \"worst_hold_error_cm\": " << r.worstHoldError
       << ", \"worst_speed_ratio\": " << r.worstSpeedRatio << "}";
   }
+  t << "\n  ],\n  \"classes\": [";
+  for (size_t i = 0; i < report.classRates.size(); ++i) {
+    const GraspClassRates& c = report.classRates[i];
+    t << (i ? "," : "") << "\n    {\"group\": \"" << c.group << "\", \"class\": \"" << c.name
+      << "\", \"scenes\": " << c.scenes << ", \"rates\": [";
+    for (size_t k = 0; k < c.rates.size(); ++k) {
+      const GraspRates& r = c.rates[k];
+      t << (k ? ", " : "") << "{\"substeps\": " << r.substeps
+        << ", \"hold_scenes\": " << r.holdScenes << ", \"hold_followed\": " << r.holdFollowed
+        << ", \"hold_rate\": " << r.HoldRate() << ", \"slip_scenes\": " << r.slipScenes
+        << ", \"slip_slipped\": " << r.slipSlipped << ", \"slip_rate\": " << r.SlipRate()
+        << ", \"boundary_scenes\": " << r.boundaryScenes << ", \"ejections\": " << r.ejections
+        << ", \"worst_speed_ratio\": " << r.worstSpeedRatio << "}";
+    }
+    t << "]}";
+  }
   t << "\n  ],\n  \"results\": [";
   for (size_t i = 0; i < report.scenes.size(); ++i) {
     const GraspSceneResult& r = report.scenes[i];
     t << (i ? "," : "") << "\n    {\"index\": " << r.scene.index << ", \"shape\": \""
       << kGraspShapeNames[static_cast<int>(r.scene.shape)] << "\", \"motion\": \""
-      << kGraspMotionNames[static_cast<int>(r.scene.motion)]
+      << kGraspMotionNames[static_cast<int>(r.scene.motion)] << "\", \"profile\": \""
+      << kGraspProfileNames[static_cast<int>(r.scene.profile)] << "\", \"topology\": \""
+      << kGraspTopologyNames[static_cast<int>(r.scene.topology)] << "\", \"slide\": \""
+      << GraspEventPhase(r.scene)
       << "\", \"margin\": " << (std::isfinite(r.prediction.margin) ? r.prediction.margin : 1e9)
+      << ", \"margin_max\": "
+      << (std::isfinite(r.prediction.marginMax) ? r.prediction.marginMax : 1e9)
       << ", \"can_hold\": " << (r.prediction.canHold ? "true" : "false")
       << ", \"near_boundary\": " << (r.prediction.nearBoundary ? "true" : "false")
       << ", \"outcomes\": [";

@@ -3,6 +3,7 @@
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/level/level.h"
 #include "proxygrasp/level/params.h"
+#include "proxygrasp/level/script.h"
 #include "proxygrasp/physics/shapes.h"
 
 #include <gmock/gmock.h>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <string>
 
 namespace pg {
@@ -25,9 +27,8 @@ using ::testing::HasSubstr;
 // is what the phase-averaged sum over contour samples must approach.
 template <typename Term>
 double OutlineIntegral(const PhysicsParams& physics, double spacing, double radius, double depth,
-                       Term term) {
+                       Term term, int kSteps = 200000) {
   const double r = physics.particleRadius;
-  constexpr int kSteps = 200000;
   double sum = 0.0;
   for (int i = 0; i < kSteps; ++i) {
     const double theta = 2.0 * kPi * (i + 0.5) / kSteps;
@@ -39,10 +40,12 @@ double OutlineIntegral(const PhysicsParams& physics, double spacing, double radi
 }
 
 // A fingertip's normal force on a flat face: k min(d, d_max) per pressing point.
-double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double radius, double depth) {
-  return OutlineIntegral(physics, spacing, radius, depth, [&](double d, double) {
-    return physics.gripStiffness * std::min(d, physics.gripMaxDepth);
-  });
+double FlatFaceIntegral(const PhysicsParams& physics, double spacing, double radius, double depth,
+                        int steps = 200000) {
+  return OutlineIntegral(
+      physics, spacing, radius, depth,
+      [&](double d, double) { return physics.gripStiffness * std::min(d, physics.gripMaxDepth); },
+      steps);
 }
 
 ObjectSpec Box(double sizeX, double sizeY, double mass) {
@@ -384,6 +387,147 @@ TEST(GraspRule, AHandOfThreeFingersAgainstAThumbBalancesWithEqualSides) {
   EXPECT_LT(0.5 * p.normalForce, 3.0 * single);
 }
 
+// The fingertips of `fingers` whose discs overlap `fingers[i]`'s: what the merged outline hides
+// of it.
+std::vector<HiddenDisc> HiddenBy(const std::vector<GraspFinger>& fingers, size_t i) {
+  std::vector<HiddenDisc> hidden;
+  for (size_t j = 0; j < fingers.size(); ++j) {
+    const Vec2 offset = fingers[j].pos - fingers[i].pos;
+    if (j != i && offset.norm() < fingers[i].radius + fingers[j].radius) {
+      hidden.push_back({offset, fingers[j].radius});
+    }
+  }
+  return hidden;
+}
+
+TEST(GraspRule, TwoTouchingFingertipsPressAsTheOutlineOfTheirUnion) {
+  // Two fingertips of radius R = 0.8 on a box's +x face, side by side along y at a pitch p =
+  // 1.2 cm (their discs overlap by 0.4 cm: one blob), contours 0.8 cm inside the face. The
+  // camera sees the outline of their union: a point of one circle inside the other disc is not on
+  // it. Along each circle, at angle theta from the push (-x), a point lies
+  // d = depth - R (1 - cos theta) + r beyond its body's centre and presses k min(d, d_max) while
+  // it is outside the other disc; the points' density is the contour's, round(2 pi R / s) per
+  // 2 pi R. The sum over both fingertips, each without its samples inside the other, must match
+  // the integral along the union's outline (1%, as for one fingertip).
+  const PhysicsParams physics;
+  const double spacing = 0.3, radius = 0.8, depth = 0.8, pitch = 1.2;
+  const ObjectSpec box = Box(6.0, 6.0, 100.0);
+  std::vector<GraspFinger> pair(2);
+  for (int i = 0; i < 2; ++i) {
+    pair[i].radius = radius;
+    pair[i].inward = Vec2(-1.0, 0.0);
+    pair[i].pos = Vec2(3.0 + radius - depth, (i - 0.5) * pitch);
+  }
+  Vec2 merged = Vec2::Zero();
+  for (size_t i = 0; i < 2; ++i) {
+    merged += FingertipForce(box, physics, spacing, pair[i].pos, radius, pair[i].inward,
+                             HiddenBy(pair, i));
+  }
+  const double k = physics.gripStiffness, r = physics.particleRadius;
+  constexpr int kSteps = 200000;
+  double integral = 0.0;
+  for (int i = 0; i < 2; ++i) {
+    const Vec2 other = pair[1 - i].pos - pair[i].pos;
+    for (int j = 0; j < kSteps; ++j) {
+      const double theta = 2.0 * kPi * (j + 0.5) / kSteps;
+      const Vec2 along = radius * Vec2(-std::cos(theta), std::sin(theta));
+      if ((along - other).norm() < radius) continue;  // inside the other disc: hidden
+      const double d = depth - radius * (1.0 - std::cos(theta)) + r;
+      if (d > 0.0) integral += k * std::min(d, physics.gripMaxDepth);
+    }
+  }
+  integral *= std::lround(2.0 * kPi * radius / spacing) / static_cast<double>(kSteps);
+  EXPECT_NEAR(-merged.x(), integral, 0.01 * integral);
+  EXPECT_NEAR(merged.y(), 0.0, 1e-6 * integral);
+  // the hidden arcs press at this depth: the union presses clearly less than the two apart
+  const double apart = 2.0 * FlatFaceIntegral(physics, spacing, radius, depth);
+  EXPECT_LT(integral, 0.9 * apart);
+  // Barely touching (pitch 1.5 cm: the hidden arcs lie beyond 90 - acos(1.5 / 1.6) = 69.6
+  // degrees from the push) and 0.1 cm inside (the points press up to acos(1 - 0.35 / 0.8) =
+  // 55.8 degrees), the hidden arcs press nothing: the force of the two apart
+  for (size_t i = 0; i < 2; ++i) pair[i].pos = Vec2(3.0 + radius - 0.1, (i - 0.5) * 1.5);
+  Vec2 shallow = Vec2::Zero();
+  for (size_t i = 0; i < 2; ++i) {
+    shallow += FingertipForce(box, physics, spacing, pair[i].pos, radius, pair[i].inward,
+                              HiddenBy(pair, i));
+  }
+  const double shallowApart = 2.0 * FlatFaceIntegral(physics, spacing, radius, 0.1);
+  EXPECT_NEAR(-shallow.x(), shallowApart, 0.01 * shallowApart);
+}
+
+// A step carry of the box pinch (R 0.8 cm, contours 0.4 cm inside): 300 g, mu_s 0.5, mu_k 0.4,
+// at 15 cm/s along `direction` (object frame, the pinch's axis is x).
+GraspScene StepCarryScene(const Vec2& direction, double muP) {
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.object.mass = 300.0;
+  s.object.particleFriction = muP;
+  SetCarry(s, direction, 10.0, 15.0, Vec2(24.0, 20.0));
+  s.profile = GraspProfile::kStep;
+  s.moveEnd = s.moveStart + s.distance / s.speed;
+  s.duration = s.moveEnd + 0.7;
+  return s;
+}
+
+// the most of integral from `from` to `limit` of f(x) dx over its upper limit (fine steps)
+template <typename F>
+double MostEnergy(F f, double from, double limit) {
+  constexpr int kSteps = 400;
+  double energy = 0.0, best = 0.0;
+  for (int j = 0; j < kSteps; ++j) {
+    energy += f(from + (limit - from) * (j + 0.5) / kSteps) * (limit - from) / kSteps;
+    best = std::max(best, energy);
+  }
+  return best;
+}
+
+TEST(GraspRule, AStepCatchesUpWithTheEnergyTheGripTakesWithinItsElasticLag) {
+  // A velocity step: the object rests while the grip moves at v. Along the pinch's axis it
+  // stays put until the leading side's extra push, F(0.4 + l) - F(0.4 - l), reaches mu_s W (at
+  // l0), then slides against mu_k W while the springs push it on; it catches up once they have
+  // taken its energy relative to the grip, 1/2 M v^2, within d_max: the fastest step it catches
+  // is sqrt(2 E / M), E = the most of the integral from l0 of (push - mu_k W) dl. Stopping, the
+  // object runs on at v and friction helps: the integral from 0 of (push + mu_k W) dl. The rule
+  // sums samples over 16 phases (1%) and takes 64 lags (2% in all).
+  const PhysicsParams physics;
+  const double w = 300.0 * physics.gravity, muS = 0.5 * w, muK = 0.4 * w;
+  const GraspScene along = StepCarryScene(Vec2(1.0, 0.0), 0.8);
+  const GraspPrediction p = PredictGrasp(along, physics, 0.3);
+  auto push = [&](double l) {
+    return FlatFaceIntegral(physics, 0.3, 0.8, 0.4 + l, 20000) -
+           FlatFaceIntegral(physics, 0.3, 0.8, 0.4 - l, 20000);
+  };
+  // where the push reaches static friction (it grows with the lag)
+  double lo = 0.0, hi = physics.gripMaxDepth;
+  ASSERT_GT(push(hi), muS);
+  for (int i = 0; i < 30; ++i) (push(0.5 * (lo + hi)) < muS ? lo : hi) = 0.5 * (lo + hi);
+  const double l0 = 0.5 * (lo + hi);
+  const double start = std::sqrt(
+      2.0 * MostEnergy([&](double l) { return push(l) - muK; }, l0, physics.gripMaxDepth) / 300.0);
+  const double stop = std::sqrt(
+      2.0 * MostEnergy([&](double l) { return push(l) + muK; }, 0.0, physics.gripMaxDepth) / 300.0);
+  EXPECT_NEAR(p.catchUpSpeed, start, 0.02 * start);
+  EXPECT_NEAR(p.stopSpeed, stop, 0.02 * stop);
+  // after the step only kinetic friction is needed, so the requirement is static friction
+  EXPECT_NEAR(p.requirement, muS, 1e-6);
+
+  // Across the axis only the pressing bodies' springs catch it up, k n x until friction mu_p N
+  // slides them, within their stretch mu_p N / (k n) plus the 0.5 cm of slip breaking loose may
+  // take. mu_p 0.6: friction 0.6 N must first reach mu_s W.
+  const GraspScene across = StepCarryScene(Vec2(0.0, 1.0), 0.6);
+  const GraspPrediction q = PredictGrasp(across, physics, 0.3);
+  const double k = physics.gripStiffness;
+  const double n = 2.0 * FlatFaceIntegral(physics, 0.3, 0.8, 0.4);
+  const double bodies = 2.0 * FlatFacePressingPoints(physics, 0.3, 0.8, 0.4);
+  const double friction = 0.6 * n, limit = friction / (k * bodies) + 0.5;
+  auto held = [&](double x) { return std::min(k * bodies * x, friction); };
+  ASSERT_GT(friction, muS);
+  const double x0 = muS / (k * bodies);
+  const double acrossStart =
+      std::sqrt(2.0 * MostEnergy([&](double x) { return held(x) - muK; }, x0, limit) / 300.0);
+  EXPECT_NEAR(q.catchUpSpeed, acrossStart, 0.03 * acrossStart);
+  EXPECT_NEAR(q.margin, std::min(q.catchUpSpeed, q.stopSpeed) / 15.0, 1e-9);
+}
+
 TEST(GraspSweep, ScenesAreReproducibleValidLevelsAndMostlyHoldable) {
   const LevelParams defaults;
   int hold = 0, total = 0;
@@ -441,6 +585,169 @@ TEST(GraspSweep, AnObliqueCarryTheGripCanOnlyBreakLooseAsAWholeIsCarried) {
   EXPECT_FALSE(run.value().ejected) << run.value().peakSpeed << " cm/s";
 }
 
+// what is drawn among the first scenes of seed 1 with every class
+TEST(GraspSweep, TheGeneratorMakesEveryClassAndKeepsTheScenesBeforeIssue42) {
+  const LevelParams defaults;
+  int topology[4] = {0, 0, 0, 0}, steps = 0, mergingPushes = 0, doubledCages = 0, roundPairs = 0;
+  std::map<std::string, int> phases;
+  for (int i = 0; i < 400; ++i) {
+    const GraspScene s = GenerateGraspScene(1, i, GraspClasses{});
+    ++topology[static_cast<int>(s.topology)];
+    steps += s.profile == GraspProfile::kStep ? 1 : 0;
+    phases[GraspEventPhase(s)] += 1;
+    const bool round = s.shape == GraspShape::kCylinder || s.shape == GraspShape::kSphere;
+    if (s.topology == GraspTopology::kNone) {
+      // the scene of the sweep before issue 42, its motion retimed if it is a step
+      GraspScene legacy = GenerateGraspScene(1, i);
+      EXPECT_EQ(s.fingers.size(), legacy.fingers.size()) << i;
+      EXPECT_EQ(s.object.mass, legacy.object.mass) << i;
+      if (s.profile == GraspProfile::kBangBang) {
+        EXPECT_EQ(GraspSceneToml(s, {}), GraspSceneToml(legacy, {})) << i;
+      }
+      continue;
+    }
+    // the fingertips side by side touch (one outline) or keep the 0.6 cm clear of each other
+    // that the camera needs to see two; no other two come within 0.6 cm
+    for (const std::vector<GraspFinger>* fingers : {&s.fingers, &s.fingersAfter}) {
+      for (size_t a = 0; a < fingers->size(); ++a) {
+        for (size_t b = a + 1; b < fingers->size(); ++b) {
+          const double gap = ((*fingers)[a].pos - (*fingers)[b].pos).norm() - (*fingers)[a].radius -
+                             (*fingers)[b].radius;
+          EXPECT_TRUE(gap < -0.05 || gap >= 0.6 - 1e-9) << "scene " << i << " gap " << gap;
+        }
+      }
+    }
+    if (s.motion == GraspMotion::kPush) {
+      ASSERT_EQ(s.topology, GraspTopology::kMerge) << i;
+      bool overlaps = false;
+      for (const GraspFinger& f : s.fingers) {
+        overlaps = overlaps || (f.pos - s.pusher.pos).norm() < f.radius + s.pusher.radius;
+      }
+      EXPECT_TRUE(overlaps) << "scene " << i << ": its pusher must merge with the pinch";
+      ++mergingPushes;
+    }
+    if (s.topology == GraspTopology::kMerge || s.topology == GraspTopology::kSplit) {
+      if (s.motion != GraspMotion::kPush) {
+        EXPECT_EQ(s.fingersAfter.size(), s.fingers.size()) << i;
+      }
+    } else {
+      EXPECT_TRUE(s.fingersAfter.empty()) << i;
+    }
+    doubledCages += s.grip == GraspGrip::kCaged && s.fingers.size() == 4 ? 1 : 0;
+    roundPairs += round && s.fingers.size() == 3 ? 1 : 0;
+    const GraspPrediction p = PredictGrasp(s, defaults.physics, defaults.sensing.spacing);
+    ASSERT_TRUE(std::isfinite(p.requirement) && p.requirement > 0.0) << "scene " << i;
+    ASSERT_GE(p.margin, 0.0) << "scene " << i;
+    ASSERT_GE(p.marginMax, p.margin) << "scene " << i;
+  }
+  for (int t = 0; t < 4; ++t) EXPECT_GT(topology[t], 40) << kGraspTopologyNames[t];
+  EXPECT_GT(steps, 100);
+  EXPECT_GT(mergingPushes, 3);
+  EXPECT_GT(doubledCages, 3);
+  EXPECT_GT(roundPairs, 10);
+  for (const char* phase : {"before", "during", "after"}) EXPECT_GT(phases[phase], 15) << phase;
+  // the classes before issue 42 alone draw exactly its scenes
+  EXPECT_EQ(GraspSceneToml(GenerateGraspScene(3, 7, GraspClasses::Legacy()), {}),
+            GraspSceneToml(GenerateGraspScene(3, 7), {}));
+}
+
+TEST(GraspSweep, ScenesOfTheNewClassesRoundTripThroughTheLevelFormat) {
+  // each class's scene written as a level and read back: its contacts, their sizes, and where
+  // the script puts them when the slide has ended and once the motion is over
+  const LevelParams defaults;
+  std::map<std::string, int> seen;
+  for (int i = 0; i < 200; ++i) {
+    const GraspScene s = GenerateGraspScene(2, i, GraspClasses{});
+    const std::string name = std::string(kGraspTopologyNames[static_cast<int>(s.topology)]) +
+                             kGraspProfileNames[static_cast<int>(s.profile)] +
+                             kGraspMotionNames[static_cast<int>(s.motion)];
+    if (seen[name]++ > 1) continue;
+    const GraspPrediction p = PredictGrasp(s, defaults.physics, defaults.sensing.spacing);
+    Result<Level> level = ParseLevel(GraspSceneToml(s, p), "scene.toml");
+    ASSERT_TRUE(level.ok()) << name << ": " << level.error().Format();
+    const Script& script = level.value().script;
+    const size_t pushers = s.motion == GraspMotion::kPush ? 1 : 0;
+    ASSERT_EQ(script.contacts.size(), s.fingers.size() + pushers) << name;
+    EXPECT_NEAR(script.duration, s.duration, 1e-7) << name;  // written to 10 digits
+    const std::vector<GraspFinger>& end = s.fingersAfter.empty() ? s.fingers : s.fingersAfter;
+    for (size_t f = 0; f < s.fingers.size(); ++f) {
+      EXPECT_NEAR(script.contacts[f].shape.radius, s.fingers[f].radius, 1e-9) << name;
+      // at the end, where the grip's rigid motion takes where the finger grips after its slide
+      const std::optional<Pose2> at = PoseAt(script.contacts[f], script.contacts[f].End());
+      ASSERT_TRUE(at.has_value()) << name;
+      const Vec2 grip = s.object.pose.Apply(end[f].pos);
+      Vec2 expected = grip;
+      if (s.motion == GraspMotion::kCarry) expected = grip + s.direction * s.distance;
+      if (s.motion == GraspMotion::kTurn) {
+        expected = s.object.pose.pos + Rotate(grip - s.object.pose.pos, s.turn);
+      }
+      EXPECT_NEAR((at->pos - expected).norm(), 0.0, 1e-6) << name << " finger " << f;
+      if (!s.fingersAfter.empty() && std::string(GraspEventPhase(s)) == "before") {
+        // the slide is over before the motion starts: the fingers are where they slid to
+        const std::optional<Pose2> slid = PoseAt(script.contacts[f], s.moveStart);
+        EXPECT_NEAR((slid->pos - grip).norm(), 0.0, 1e-6) << name << " finger " << f;
+      }
+    }
+  }
+  for (const char* topology : {"none", "merged", "merge", "split"}) {
+    for (const char* profile : {"bang-bang", "step"}) {
+      EXPECT_GT(seen[std::string(topology) + profile + "carry"], 0) << topology << profile;
+      EXPECT_GT(seen[std::string(topology) + profile + "turn"], 0) << topology << profile;
+    }
+  }
+  EXPECT_GT(seen["mergebang-bangpush"] + seen["mergesteppush"], 0);
+}
+
+TEST(GraspSweep, AShortSweepRunsEachTopologyClassAndReportsItsRates) {
+  // two scenes of each topology at 2 substeps (the quickest), with a progress count
+  for (int t = 0; t < kGraspTopologyCount; ++t) {
+    GraspSweepOptions o;
+    o.scenes = 2;
+    o.substeps = {2};
+    o.holdShare = 1.0;
+    o.seed = 11;
+    for (int u = 0; u < kGraspTopologyCount; ++u) o.classes.topology[u] = u == t;
+    size_t calls = 0, total = 0;
+    o.progress = [&](size_t done, size_t all) {
+      ++calls;
+      total = all;
+      EXPECT_LE(done, all);
+    };
+    Result<GraspSweepReport> r = RunGraspSweep(o);
+    ASSERT_TRUE(r.ok()) << r.error().Format();
+    EXPECT_EQ(calls, 2u);
+    EXPECT_EQ(total, 2u);
+    const GraspSweepReport& report = r.value();
+    bool listed = false;
+    for (const GraspClassRates& c : report.classRates) {
+      if (c.group == "topology") {
+        EXPECT_EQ(c.name, kGraspTopologyNames[t]);
+        EXPECT_EQ(c.scenes, 2);
+        listed = true;
+      }
+    }
+    EXPECT_TRUE(listed) << kGraspTopologyNames[t];
+    const std::string json = GraspSweepJson(report);
+    EXPECT_THAT(json, HasSubstr(std::string("\"topology\": \"") + kGraspTopologyNames[t] + "\""));
+    EXPECT_THAT(json, HasSubstr("\"group\": \"topology\""));
+    EXPECT_THAT(FormatGraspSweep(report), HasSubstr("by class"));
+  }
+}
+
+TEST(GraspSweep, ClassesAreParsedAndBadOnesNamed) {
+  EXPECT_TRUE(ParseGraspClasses("legacy").value().IsLegacy());
+  EXPECT_TRUE(ParseGraspClasses("none,bang-bang").value().IsLegacy());
+  EXPECT_FALSE(ParseGraspClasses("all").value().IsLegacy());
+  const GraspClasses steps = ParseGraspClasses("merge,step").value();
+  EXPECT_TRUE(steps.topology[2] && !steps.topology[0] && steps.step && !steps.bangBang);
+  const GraspClasses merged = ParseGraspClasses("merged").value();
+  EXPECT_TRUE(merged.topology[1] && merged.step && merged.bangBang);
+  Result<GraspClasses> bad = ParseGraspClasses("merged,wobble");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_THAT(bad.error().message, HasSubstr("--classes"));
+  EXPECT_THAT(bad.error().message, HasSubstr("wobble"));
+}
+
 TEST(GraspSweep, BadOptionsAreErrorsNamingThem) {
   GraspSweepOptions o;
   o.scenes = 0;
@@ -487,8 +794,8 @@ TEST(GraspSweep, CanHoldScenesAreKeptUpToTheHoldShareAndEveryOtherDrawIsKept) {
     hold += canHold ? 1 : 0;
     // the draws skipped before this one were can-hold draws beyond the share
     for (; next < kept.scene.index; ++next) {
-      const GraspPrediction p = PredictGrasp(GenerateGraspScene(o.seed, next), defaults.physics,
-                                             defaults.sensing.spacing);
+      const GraspPrediction p = PredictGrasp(GenerateGraspScene(o.seed, next, o.classes),
+                                             defaults.physics, defaults.sensing.spacing);
       EXPECT_TRUE(p.canHold && !p.nearBoundary) << "draw " << next << " was skipped";
     }
     next = kept.scene.index + 1;

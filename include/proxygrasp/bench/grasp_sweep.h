@@ -11,6 +11,8 @@
 #include "proxygrasp/physics/types.h"
 
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -32,6 +34,41 @@ enum class GraspMotion {
   kPush,   ///< holds still while a third fingertip pushes into the object across the grip
 };
 inline constexpr const char* kGraspMotionNames[] = {"carry", "turn", "push"};
+
+/// How the outlines of a scene's contacts meet (issue 42). kNone: every contour keeps 0.6 cm clear
+/// of the others; kMerged: fingertips on one face touch (one outline) from the start; kMerge: two
+/// fingertips on one face slide together until their outlines merge, or a third finger pushes
+/// until its outline merges with the grip's; kSplit: two touching fingertips slide apart.
+enum class GraspTopology { kNone, kMerged, kMerge, kSplit };
+inline constexpr const char* kGraspTopologyNames[] = {"none", "merged", "merge", "split"};
+inline constexpr int kGraspTopologyCount = 4;
+
+/// How a carry or a turn (or a pusher's approach) runs: bang-bang (constant acceleration, then
+/// constant deceleration), or a velocity step (constant speed, reached and left within a frame).
+enum class GraspProfile { kBangBang, kStep };
+inline constexpr const char* kGraspProfileNames[] = {"bang-bang", "step"};
+
+/// Which classes of scene a sweep draws. Only none and bang-bang (`Legacy()`) draws exactly the
+/// scenes of the sweep before issue 42, scene for scene.
+struct GraspClasses {
+  bool topology[kGraspTopologyCount] = {true, true, true, true};
+  bool bangBang = true;
+  bool step = true;
+  static GraspClasses Legacy();
+  bool IsLegacy() const;
+};
+
+/// Parses `--classes`: "all", "legacy", or a comma-separated list of topologies (none, merged,
+/// merge, split) and profiles (bang-bang, step); a list that names no topology takes them all,
+/// and one that names no profile takes both.
+Result<GraspClasses> ParseGraspClasses(const std::string& list);
+
+/// Another fingertip whose outline merged with a fingertip's: the contour points of the
+/// fingertip inside its disc are gone from the merged outline.
+struct HiddenDisc {
+  Vec2 offset = Vec2::Zero();  ///< its centre, from the fingertip's centre, cm
+  double radius = 0.8;         ///< cm
+};
 
 /// A fingertip of a scene: a round contact whose contour ends `depth` inside a face.
 struct GraspFinger {
@@ -57,9 +94,16 @@ struct GraspScene {
   double turnRate = 0.0;           ///< turn: peak rate, rad/s
   GraspFinger pusher;              ///< push: the third fingertip at its deepest
   double pushDepth = 0.0;          ///< push: how far its contour ends inside its face, cm
-  double moveStart = 0.0;          ///< when the motion (or the push's approach) starts, s
-  double moveEnd = 0.0;            ///< when it ends, s
-  double duration = 0.0;           ///< of the level, s
+  GraspTopology topology = GraspTopology::kNone;
+  GraspProfile profile = GraspProfile::kBangBang;
+  /// kMerge, kSplit (not a merging pusher): the fingers once they have slid (the same fingers,
+  /// in order, object frame at the start); empty when nothing slides
+  std::vector<GraspFinger> fingersAfter;
+  double eventStart = 0.0;  ///< when the fingers start to slide, s
+  double eventEnd = 0.0;    ///< when they have slid, s
+  double moveStart = 0.0;   ///< when the motion (or the push's approach) starts, s
+  double moveEnd = 0.0;     ///< when it ends, s
+  double duration = 0.0;    ///< of the level, s
 };
 
 /// What the rule says of a scene, before it runs (docs/physics.md, "Grasp sweep").
@@ -70,6 +114,13 @@ struct GraspPrediction {
   double margin = 0.0;        ///< capacity / requirement (infinity when nothing is required)
   bool canHold = false;       ///< margin >= 1
   bool nearBoundary = false;  ///< margin within 20% of 1 (0.8 .. 1.2): reported apart, not scored
+  /// A velocity step: the fastest step (cm/s, or rad/s for a turn) the grip catches up with
+  /// within its elastic lag, starting; and stopping, the fastest it stops within that lag
+  double catchUpSpeed = 0.0;
+  double stopSpeed = 0.0;
+  /// Fingers that slide during the motion: the largest margin of the configurations it passes
+  /// through (`margin` is the smallest); the scene is scored only when they agree
+  double marginMax = 0.0;
 };
 
 /// What a scene did when run.
@@ -82,8 +133,16 @@ struct GraspOutcome {
   bool ejected = false;        ///< peakSpeed > 1.5 contactSpeed + 5 cm/s
 };
 
-/// Scenes are generated from this seed and their index in the sweep.
+/// Scenes are generated from this seed and their index in the sweep: the scenes of the sweep
+/// before issue 42 (none, bang-bang).
 GraspScene GenerateGraspScene(uint64_t seed, int index);
+/// The same drawing from `classes`: each scene's class comes from a stream of its own, and a scene
+/// of class none and bang-bang is the scene the two-argument form draws.
+GraspScene GenerateGraspScene(uint64_t seed, int index, const GraspClasses& classes);
+
+/// Where the scene's event happens against the motion: "" (no event), "before", "during",
+/// "after".
+const char* GraspEventPhase(const GraspScene& scene);
 
 /// The normal force, dyn (a vector in the object frame), of one fingertip centred at `center`
 /// (object frame) pressing the object's layer-0 slice, by the grip model: each contour point
@@ -94,16 +153,17 @@ GraspScene GenerateGraspScene(uint64_t seed, int index);
 /// along the line from where the body stopped to the vertex); a body whose target has slid off
 /// the ends of the face it met presses nothing. On a round slice a body stops where its circle
 /// meets the slice's as it comes in along `inward`, and presses along the normal there by its
-/// target's depth along it.
+/// target's depth along it. Contour points inside a `hidden` disc are gone (a merged outline).
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
-                    const Vec2& center, double radius, const Vec2& inward);
+                    const Vec2& center, double radius, const Vec2& inward,
+                    std::span<const HiddenDisc> hidden = {});
 /// The same for a fingertip that came in to `restCenter` and then moved to `center` relative to
 /// the object (the object lagging): on a round slice the bodies stay where they met it.
 /// `pressing`, when given, receives how many of its bodies press (averaged over the sampling
 /// phases, like the force).
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
-                    double* pressing = nullptr);
+                    double* pressing = nullptr, std::span<const HiddenDisc> hidden = {});
 /// The torque, dyn cm about the object's origin (counter-clockwise positive), that one
 /// fingertip's bodies give an object they grip when the fingertip (contour centre `center`,
 /// object frame) has turned by `turn` radians about the origin relative to it. Each body stays
@@ -114,7 +174,7 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 /// slice, whose targets lie off their normals).
 double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                       const Vec2& center, double radius, const Vec2& inward, double turn,
-                      double friction);
+                      double friction, std::span<const HiddenDisc> hidden = {});
 
 /// The rule, evaluated at the parameters' grip stiffness, depth limit, particle radius and the
 /// contour spacing.
@@ -143,6 +203,10 @@ struct GraspSweepOptions {
   /// that cannot hold are enough to measure their rate (docs/physics.md, "The scenes"). 1 keeps
   /// every draw (scenes 0 .. count - 1, as for seeds 1 to 62 in docs/physics.md).
   double holdShare = 0.6;
+  GraspClasses classes;  ///< which classes of scene are drawn (`--classes`)
+  /// Called after each run with the runs done and in all (from the running threads, one at a
+  /// time); empty calls nothing
+  std::function<void(size_t done, size_t total)> progress;
 };
 
 /// One scene's rule and its outcome at each substep count of the sweep.
@@ -167,11 +231,20 @@ struct GraspRates {
   double SlipRate() const { return slipScenes ? double(slipSlipped) / slipScenes : 1.0; }
 };
 
+/// The rates of one class of scenes (a shape, a motion and profile, a topology).
+struct GraspClassRates {
+  std::string group;  ///< "shape", "motion", "topology"
+  std::string name;   ///< "box", "carry step", "merged", ...
+  int scenes = 0;
+  std::vector<GraspRates> rates;  ///< one per substep count
+};
+
 struct GraspSweepReport {
   GraspSweepOptions options;
   int draws = 0;  ///< scenes drawn to keep options.scenes (the rest were can-hold draws skipped)
   std::vector<GraspSceneResult> scenes;
-  std::vector<GraspRates> rates;  ///< one per substep count
+  std::vector<GraspRates> rates;            ///< one per substep count
+  std::vector<GraspClassRates> classRates;  ///< per shape, motion and profile, topology
 };
 
 /// Generates, classifies and runs the scenes. Bad options are an Error naming them as `proxygrasp
