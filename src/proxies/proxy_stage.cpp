@@ -66,10 +66,6 @@ Pose2 RigidMotion(const Contour& prev, const Contour& cur) {
   return Pose2{centroidCur - Rotate(centroidPrev, angle), angle};
 }
 
-// how many contour samples from its successor a handed-over point whose successor was taken may
-// move to a free one
-constexpr int kFillReach = 2;
-
 // how many contour samples on either side of its match a reused particle's target may move to:
 // a match lags sub-sample motion by up to a sample or two where the contour runs along the motion
 constexpr int kSubsampleReach = 3;
@@ -455,9 +451,9 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
   // next to it, on the side where it lies from the winner along its own contour: the contours
   // are sampled at independent phases and lengths, so several points of an outline that only
   // moved often choose one successor while its neighbour goes free, which would delete and
-  // create a particle for nothing. A point only moves within kFillReach of its successor, and
-  // never across another point's particle: an outline that shrank still deletes, one that grew
-  // still creates.
+  // create a particle for nothing. A point moves to the nearest free point that way, never across
+  // another outline's particle: an outline that shrank still deletes, one that grew still
+  // creates.
   std::vector<std::tuple<double, int, int>> losers;  // score, source, point
   for (size_t i = 0; i < from.size(); ++i) {
     for (size_t k = 0; k < choice[i].size(); ++k) {
@@ -481,7 +477,7 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
       const int n = static_cast<int>(choice[i].size());
       direction = WrapIndex(k - winner.point, n) <= n / 2 ? 1 : -1;
     }
-    for (int step = 1; step <= kFillReach && step < m; ++step) {
+    for (int step = 1; step < m; ++step) {
       const int j = WrapIndex(c.index + direction * step, m);
       if (line[j].source < 0) {
         line[j] = {i, k, score};
@@ -562,6 +558,10 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
     m_tracks[contact.id] = std::move(track);
   }
   // the source particles no target point took
+  int sourcePoints = 0, targetPoints = 0;
+  for (const Track& track : from) sourcePoints += static_cast<int>(track.ids.size());
+  for (const Contact* c : targets) targetPoints += static_cast<int>(c->blob.contour.cols());
+  const size_t before = plan.particles.size();
   for (size_t i = 0; i < from.size(); ++i) {
     for (size_t k = 0; k < from[i].ids.size(); ++k) {
       if (kept[i][k]) continue;
@@ -575,6 +575,13 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
       plan.particles.push_back(p);
     }
   }
+  const int deleted = static_cast<int>(plan.particles.size() - before);
+  const int created = targetPoints - (sourcePoints - deleted);
+  m_stats.handoverCreated += created;
+  m_stats.handoverDeleted += deleted;
+  m_stats.handoverKept += sourcePoints - deleted;
+  m_stats.handoverExcessMax =
+      std::max(m_stats.handoverExcessMax, created - std::max(0, targetPoints - sourcePoints));
 }
 
 void ProxyStage::Seed(const ProxyParams& params, const Contact& contact, const SceneQuery& scene,

@@ -27,9 +27,16 @@ struct ProxyStageStats {
   int restartedNew = 0;       ///< new contacts whose id already had state (old particles deleted)
   int vanishedContacts = 0;   ///< contacts with state missing from the set (particles deleted)
   int windowedFallbacks = 0;  ///< points the windowed search handed to the full search
-  int indexShifts = 0;   ///< contours whose indices crept off their targets and were moved back
-  int missingImage = 0;  ///< instant-mode frames without a table image (no particles)
-  int handovers = 0;     ///< merges and splits whose particles were handed over
+  int indexShifts = 0;      ///< contours whose indices crept off their targets and were moved back
+  int missingImage = 0;     ///< instant-mode frames without a table image (no particles)
+  int handovers = 0;        ///< merges and splits whose particles were handed over
+  int handoverCreated = 0;  ///< particles created at hand-overs
+  int handoverDeleted = 0;  ///< particles deleted at hand-overs
+  int handoverKept = 0;     ///< parents' particles that went on with a child at hand-overs
+  /// The most particles a hand-over created beyond what its change of outline requires:
+  /// created - max(0, M - N), M the children's and N the parents' contour points (equal to
+  /// deleted - max(0, N - M)). docs/proxies.md, "Merges and splits".
+  int handoverExcessMax = 0;
 };
 
 /// The successors of a contact's previous contour points on its current contour, by the search
