@@ -10,6 +10,10 @@ namespace {
 // a contour that lies at least this much within a blob (as a fraction of its points) came from it
 // or went into it
 constexpr double kMinCoverage = 0.5;
+// a continuing blob at least this much within its own contact's moved blob is that contact alone
+constexpr double kOwnCoverage = 0.9;
+// a part of a continuing blob that came from another contact covers at least this of it
+constexpr double kMinPartCoverage = 0.25;
 // how much of the distance a contact's last velocity carries it between frames is uncertain
 constexpr double kVelocityUncertainty = 0.25;
 
@@ -153,6 +157,26 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
   }
   for (int i = 0; i < nPrev; ++i) {
     if (mergedTo[i] >= 0) next[mergedTo[i]].parents.push_back(m_current[i].id);
+  }
+  // A part handed from one blob to another in one frame (a finger that leaves one neighbour for
+  // another, the two blobs each continuing a contact): a continuing blob that its own contact's
+  // moved blob does not cover grew a part, and every other contact of the last frame that
+  // covers at least kMinPartCoverage of it is a parent too (its blob split, and the part merged
+  // here). A blob that its own contact covers, a fingertip beside another, gets no such parent.
+  for (int j = 0; j < nBlobs; ++j) {
+    const int own = blobToPrev[j];
+    if (own < 0) continue;
+    const Contour& contour = frame.blobs[j].contour;
+    if (Coverage(contour, -shift[own], m_current[own].blob, margin[own]) >= kOwnCoverage) continue;
+    for (int i = 0; i < nPrev; ++i) {
+      if (i == own || mergedTo[i] >= 0) continue;
+      const ContactId id = m_current[i].id;
+      std::vector<ContactId>& parents = next[j].parents;
+      if (std::find(parents.begin(), parents.end(), id) != parents.end()) continue;
+      if (Coverage(contour, -shift[i], m_current[i].blob, margin[i]) < kMinPartCoverage) continue;
+      parents.push_back(id);
+      ++children[i];
+    }
   }
   // a centroid jumps when blobs join or part: the contacts of such an event keep the velocity
   // of the contact they continue rather than the jump

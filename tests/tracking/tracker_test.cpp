@@ -315,6 +315,36 @@ TEST(TrackerTopology, ABlobThatPartsSplitsAndTheNewPieceHasItsParent) {
   EXPECT_EQ(s.splits, 1);
 }
 
+TEST(TrackerTopology, APartHandedFromOneBlobToAnotherNamesBothParents) {
+  // three fingertips in a row, 1.8 cm apart (radius 0.9): the middle one touches the right one
+  // (one blob), then leaves it for the left one; both blobs continue their contacts by their
+  // centroids, and the left one's new part came from the right one's blob
+  Tracker t;
+  StepWith(t, TrackingParams{},
+           Frame(0, {Disc({10, 10}, 0.9), UnionBlob({11.7, 10}, 0.9, {13.4, 10}, 0.9)}));
+  const ContactSet s0 =
+      t.Step(Frame(1, {Disc({10, 10}, 0.9), UnionBlob({11.7, 10}, 0.9, {13.4, 10}, 0.9)}));
+  const ContactSet s =
+      StepWith(t, TrackingParams{},
+               Frame(2, {UnionBlob({10, 10}, 0.9, {11.7, 10}, 0.9), Disc({13.4, 10}, 0.9)}));
+  ASSERT_EQ(s.contacts.size(), 2u);
+  const ContactId left =
+      s0.contacts[0].blob.centroid.x() < 11 ? s0.contacts[0].id : s0.contacts[1].id;
+  const ContactId right = s0.contacts[0].id == left ? s0.contacts[1].id : s0.contacts[0].id;
+  for (const Contact& c : s.contacts) {
+    EXPECT_EQ(c.state, ContactState::kContinuing);
+    if (c.id == left) {
+      EXPECT_EQ(c.parents, (std::vector<ContactId>{left, right}))
+          << "its new part came from the right";
+    } else {
+      EXPECT_EQ(c.parents, std::vector<ContactId>{right})
+          << "the right one lost a part, gained none";
+    }
+  }
+  EXPECT_EQ(s.merges, 1);
+  EXPECT_EQ(s.splits, 1);
+}
+
 TEST(TrackerTopology, AFingerPutDownBesideAnotherIsNewWithNoParent) {
   // a fingertip lands 0.5 cm from another's outline: its outline is nowhere within 0.3 cm of the
   // first's, so nothing split
