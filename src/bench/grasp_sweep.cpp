@@ -443,6 +443,10 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
   return torque / kSamplePhases;
 }
 
+namespace {
+void DrawObject(Rng& rng, GraspScene& s, double sizeLo, double sizeHi);
+}  // namespace
+
 GraspScene GenerateGraspScene(uint64_t seed, int index) {
   // each scene its own stream, so that a scene does not depend on the ones before it
   Rng rng(seed * 1000003ULL + static_cast<uint64_t>(index) * 7919ULL + 17ULL);
@@ -459,34 +463,8 @@ GraspScene GenerateGraspScene(uint64_t seed, int index) {
             : pick < 0.70 ? GraspShape::kSphere
             : pick < 0.80 ? GraspShape::kTriangle
                           : GraspShape::kHexagon;
-  const double size = rng.Uniform(2.0, 12.0);  // cm: width of a box, diameter of a round one
-  const double height = rng.Uniform(1.0, 4.0);
-  switch (s.shape) {
-    case GraspShape::kBox:
-      o.shape = ObjectShape::kBox;
-      o.sizeX = size;
-      o.sizeY = std::clamp(size * rng.Uniform(0.5, 1.5), 2.0, 12.0);
-      o.height = height;
-      break;
-    case GraspShape::kCylinder:
-      o.shape = ObjectShape::kCylinder;
-      o.radius = 0.5 * size;
-      o.height = height;
-      break;
-    case GraspShape::kSphere:
-      o.shape = ObjectShape::kSphere;
-      // 2 to 7 cm across: the 8 layers of 1 cm take objects up to 7.5 cm tall
-      o.radius = 0.5 * (2.0 + 0.5 * (size - 2.0));
-      break;
-    case GraspShape::kTriangle:
-    case GraspShape::kHexagon:
-      o.shape = ObjectShape::kConvexPrism;
-      o.height = height;
-      for (const Vec2& p : RegularPolygon(s.shape == GraspShape::kTriangle ? 3 : 6, 0.5 * size)) {
-        o.points.push_back(p);
-      }
-      break;
-  }
+  // size 2 to 12 cm: the width of a box, the diameter of a round one
+  DrawObject(rng, s, 2.0, 12.0);
   o.mass = rng.Uniform(20.0, 300.0);
   o.tableStatic = rng.Uniform(0.2, 0.8);
   o.tableKinetic = o.tableStatic * rng.Uniform(0.6, 0.9);
