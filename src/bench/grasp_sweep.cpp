@@ -444,6 +444,7 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
 }
 
 namespace {
+GraspShape DrawShape(Rng& rng);
 void DrawObject(Rng& rng, GraspScene& s, double sizeLo, double sizeHi);
 }  // namespace
 
@@ -457,12 +458,7 @@ GraspScene GenerateGraspScene(uint64_t seed, int index) {
   ObjectSpec& o = s.object;
   o.name = "object";
 
-  const double pick = rng.Uniform();
-  s.shape = pick < 0.35   ? GraspShape::kBox
-            : pick < 0.55 ? GraspShape::kCylinder
-            : pick < 0.70 ? GraspShape::kSphere
-            : pick < 0.80 ? GraspShape::kTriangle
-                          : GraspShape::kHexagon;
+  s.shape = DrawShape(rng);
   // size 2 to 12 cm: the width of a box, the diameter of a round one
   DrawObject(rng, s, 2.0, 12.0);
   o.mass = rng.Uniform(20.0, 300.0);
@@ -652,6 +648,16 @@ void TimeMotion(GraspScene& s) {
   s.duration = s.moveEnd + kSettleTime;
 }
 
+// the shape of a scene's object: box 35%, cylinder 20%, sphere 15%, triangle 10%, hexagon 20%
+GraspShape DrawShape(Rng& rng) {
+  const double pick = rng.Uniform();
+  return pick < 0.35   ? GraspShape::kBox
+         : pick < 0.55 ? GraspShape::kCylinder
+         : pick < 0.70 ? GraspShape::kSphere
+         : pick < 0.80 ? GraspShape::kTriangle
+                       : GraspShape::kHexagon;
+}
+
 // the object of a scene: shape and size drawn as the sweep before issue 42 draws them
 void DrawObject(Rng& rng, GraspScene& s, double sizeLo, double sizeHi) {
   ObjectSpec& o = s.object;
@@ -715,12 +721,7 @@ std::optional<GraspScene> GenerateTopologyScene(Rng& rng, uint64_t seed, int ind
   const PhysicsParams physics;
   ObjectSpec& o = s.object;
   o.name = "object";
-  const double pick = rng.Uniform();
-  s.shape = pick < 0.35   ? GraspShape::kBox
-            : pick < 0.55 ? GraspShape::kCylinder
-            : pick < 0.70 ? GraspShape::kSphere
-            : pick < 0.80 ? GraspShape::kTriangle
-                          : GraspShape::kHexagon;
+  s.shape = DrawShape(rng);
   o.mass = rng.Uniform(20.0, 300.0);
   o.tableStatic = rng.Uniform(0.2, 0.8);
   o.tableKinetic = o.tableStatic * rng.Uniform(0.6, 0.9);
