@@ -586,11 +586,20 @@ TEST(GraspSweep, AnObliqueCarryTheGripCanOnlyBreakLooseAsAWholeIsCarried) {
 }
 
 // what is drawn among the first scenes of seed 1 with every class
+// The generator's scenes checked one by one. The rule runs on each of them, which the sanitizers
+// slow 15-fold (85 s of the sanitizer phase for 400 scenes): that build checks the first 160 for
+// memory errors and the same bounds, scaled, while the Release build checks all 400.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr int kGeneratorScenes = 160;
+#else
+constexpr int kGeneratorScenes = 400;
+#endif
+
 TEST(GraspSweep, TheGeneratorMakesEveryClassAndKeepsTheScenesBeforeIssue42) {
   const LevelParams defaults;
   int topology[4] = {0, 0, 0, 0}, steps = 0, mergingPushes = 0, doubledCages = 0, roundPairs = 0;
   std::map<std::string, int> phases;
-  for (int i = 0; i < 400; ++i) {
+  for (int i = 0; i < kGeneratorScenes; ++i) {
     const GraspScene s = GenerateGraspScene(1, i, GraspClasses{});
     ++topology[static_cast<int>(s.topology)];
     steps += s.profile == GraspProfile::kStep ? 1 : 0;
@@ -640,12 +649,17 @@ TEST(GraspSweep, TheGeneratorMakesEveryClassAndKeepsTheScenesBeforeIssue42) {
     ASSERT_GE(p.margin, 0.0) << "scene " << i;
     ASSERT_GE(p.marginMax, p.margin) << "scene " << i;
   }
-  for (int t = 0; t < 4; ++t) EXPECT_GT(topology[t], 40) << kGraspTopologyNames[t];
-  EXPECT_GT(steps, 100);
-  EXPECT_GT(mergingPushes, 3);
-  EXPECT_GT(doubledCages, 3);
-  EXPECT_GT(roundPairs, 10);
-  for (const char* phase : {"before", "during", "after"}) EXPECT_GT(phases[phase], 15) << phase;
+  // the bounds of the 400 scenes, scaled to the scenes checked (well below what the class shares
+  // give: merge, split and merged are 20% each, steps 40%)
+  const double per400 = kGeneratorScenes / 400.0;
+  for (int t = 0; t < 4; ++t) EXPECT_GT(topology[t], 40 * per400) << kGraspTopologyNames[t];
+  EXPECT_GT(steps, 100 * per400);
+  EXPECT_GT(mergingPushes, 3 * per400);
+  EXPECT_GT(doubledCages, 3 * per400);
+  EXPECT_GT(roundPairs, 10 * per400);
+  for (const char* phase : {"before", "during", "after"}) {
+    EXPECT_GT(phases[phase], 15 * per400) << phase;
+  }
   // the classes before issue 42 alone draw exactly its scenes
   EXPECT_EQ(GraspSceneToml(GenerateGraspScene(3, 7, GraspClasses::Legacy()), {}),
             GraspSceneToml(GenerateGraspScene(3, 7), {}));
