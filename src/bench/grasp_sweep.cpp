@@ -1280,6 +1280,20 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
   return p;
 }
 
+// The farthest a fingertip that slides over the round layer-0 slice goes round it (rad): the
+// change of its centre's bearing from the slice's axis. 0 when the slice is not round or nothing
+// slides.
+double SlideTurn(const GraspScene& s, const PhysicsParams& physics) {
+  if (s.fingersAfter.empty() || !Slice0(s.object, physics).circle) return 0.0;
+  double most = 0.0;
+  for (size_t i = 0; i < s.fingers.size() && i < s.fingersAfter.size(); ++i) {
+    const Vec2& a = s.fingers[i].pos;
+    const Vec2& b = s.fingersAfter[i].pos;
+    most = std::max(most, std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b))));
+  }
+  return most;
+}
+
 }  // namespace
 
 GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, double spacing) {
@@ -1318,6 +1332,16 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
   least.nearBoundary =
       (least.margin >= 1.0 - kBoundaryBand && least.margin <= 1.0 + kBoundaryBand) ||
       (least.margin < 1.0 - kBoundaryBand && most >= 1.0 - kBoundaryBand);
+  // Eighth revision (docs/physics.md, "A slide over a round slice"): fingertips that slide over a
+  // round slice press it through its centre, so their normal forces give it no torque, and their
+  // friction turns it by mu_p (N_a - N_b) rho, the difference of the sliding pieces' pushes. The
+  // piece that presses harder holds the surface and the slice turns with it, at most as far as
+  // that piece goes round it. How much harder one piece presses depends on where the object sits
+  // in the grip when the slide begins, which the rule does not model: where a piece goes round
+  // the slice by the angle that still counts as following or more, the rule does not say that
+  // the grip holds (a grip that cannot hold still cannot).
+  least.slideTurn = SlideTurn(s, physics);
+  if (least.canHold && least.slideTurn >= kFollowAngle) least.nearBoundary = true;
   return least;
 }
 
@@ -1344,6 +1368,9 @@ std::string GraspSceneToml(const GraspScene& s, const GraspPrediction& predictio
     << ", margin " << prediction.margin;
   if (prediction.marginMax > prediction.margin)
     t << " (to " << prediction.marginMax << " while the fingers slide)";
+  if (prediction.slideTurn > 0.0) {
+    t << ", a fingertip slides " << RadToDeg(prediction.slideTurn) << " deg round the slice";
+  }
   if (s.profile == GraspProfile::kStep && s.motion != GraspMotion::kPush) {
     t << ", step: catches up to " << prediction.catchUpSpeed << ", stops from "
       << prediction.stopSpeed << (s.motion == GraspMotion::kTurn ? " rad/s" : " cm/s");
@@ -1775,6 +1802,7 @@ std::string GraspSweepJson(const GraspSweepReport& report) {
       << "\", \"margin\": " << (std::isfinite(r.prediction.margin) ? r.prediction.margin : 1e9)
       << ", \"margin_max\": "
       << (std::isfinite(r.prediction.marginMax) ? r.prediction.marginMax : 1e9)
+      << ", \"slide_turn_deg\": " << RadToDeg(r.prediction.slideTurn)
       << ", \"can_hold\": " << (r.prediction.canHold ? "true" : "false")
       << ", \"near_boundary\": " << (r.prediction.nearBoundary ? "true" : "false")
       << ", \"outcomes\": [";

@@ -219,6 +219,83 @@ TEST(GraspRule, ACarryAcrossAPinchedRoundSliceLosesWhatTheTiltingNormalsTakeBack
   EXPECT_NEAR(p.margin, 0.8 * p.normalForce * (1.0 - dbar / rho) / p.requirement, 1e-9 * p.margin);
 }
 
+// A thumb on a cylinder's -x side against two fingertips on its +x side that part after a slow
+// carry (a split), contours `depth` inside, the pieces' centres going from `from` to `to` either
+// side of the axis.
+GraspScene SplitAfterACarry(double radius, double depth, double from, double to) {
+  GraspScene s;
+  s.object = Cylinder(radius, 100.0);
+  s.object.tableStatic = 0.3;
+  s.object.tableKinetic = 0.25;
+  s.object.particleFriction = 0.8;
+  s.depth = depth;
+  s.topology = GraspTopology::kSplit;
+  const double fingerRadius = 0.8, x = radius + fingerRadius - depth;
+  GraspFinger thumb;
+  thumb.radius = fingerRadius;
+  thumb.inward = Vec2(1.0, 0.0);
+  thumb.pos = Vec2(-x, 0.0);
+  s.fingers = {thumb};
+  s.fingersAfter = {thumb};
+  for (double side : {-1.0, 1.0}) {
+    GraspFinger f;
+    f.radius = fingerRadius;
+    f.inward = Vec2(-1.0, 0.0);
+    f.pos = Vec2(x, side * from);
+    s.fingers.push_back(f);
+    f.pos = Vec2(x, side * to);
+    s.fingersAfter.push_back(f);
+  }
+  SetCarry(s, Vec2(0.0, 1.0), 8.0, 5.0, Vec2(30.5, 20.0));
+  s.eventStart = s.moveEnd + 0.1;
+  s.eventEnd = s.eventStart + 0.2;
+  s.duration = s.eventEnd + 0.5;
+  return s;
+}
+
+TEST(GraspRule, AFingertipSlidingRoundARoundSliceFarEnoughToTurnItPastFiveDegreesIsNotScored) {
+  // Fingertips that slide over a round slice press it through its centre: their normal forces
+  // give it no torque, and their friction turns it by mu_p (N_a - N_b) rho. The piece that
+  // presses harder holds the surface and the slice turns with it, at most as far as that piece
+  // goes round it: the change of its centre's bearing, atan(to / x) - atan(from / x). Which piece
+  // presses harder depends on where the object sits in the grip, which the rule does not model:
+  // from 5 degrees on the rule does not say that the grip holds (docs/physics.md, "A slide over a
+  // round slice").
+  const PhysicsParams physics;
+  // radius 2, contours 0.5 cm inside: x = 2.3; the pieces go from 0.7 to 1.2 cm off the axis,
+  // atan(1.2 / 2.3) - atan(0.7 / 2.3) = 10.6 degrees round
+  const GraspScene small = SplitAfterACarry(2.0, 0.5, 0.7, 1.2);
+  const GraspPrediction p = PredictGrasp(small, physics, 0.3);
+  EXPECT_NEAR(RadToDeg(p.slideTurn), RadToDeg(std::atan(1.2 / 2.3) - std::atan(0.7 / 2.3)), 1e-9);
+  EXPECT_TRUE(p.canHold);  // the grip itself holds the slow carry
+  EXPECT_GT(p.margin, 1.0 + 0.2);
+  EXPECT_TRUE(p.nearBoundary);
+  // radius 6 and a shorter slide (0.7 to 0.9 cm, x = 6.3): 1.8 degrees round, scored
+  const GraspPrediction wide = PredictGrasp(SplitAfterACarry(6.0, 0.5, 0.7, 0.9), physics, 0.3);
+  EXPECT_NEAR(RadToDeg(wide.slideTurn), RadToDeg(std::atan(0.9 / 6.3) - std::atan(0.7 / 6.3)),
+              1e-9);
+  EXPECT_TRUE(wide.canHold);
+  EXPECT_FALSE(wide.nearBoundary);
+  // the same slide on a box's flat face: its normal forces hold the box's angle, nothing turns
+  GraspScene box = small;
+  box.object = Box(4.6, 4.6, 100.0);
+  box.object.tableStatic = 0.3;
+  box.object.tableKinetic = 0.25;
+  box.object.particleFriction = 0.8;
+  box.object.pose.pos = small.object.pose.pos;
+  const GraspPrediction flat = PredictGrasp(box, physics, 0.3);
+  EXPECT_EQ(flat.slideTurn, 0.0);
+  EXPECT_GT(flat.margin, 1.0 + 0.2);
+  EXPECT_FALSE(flat.nearBoundary);
+  // a grip that cannot hold still cannot: the slide does not move it to the boundary
+  GraspScene heavy = small;
+  heavy.object.mass = 5000.0;
+  const GraspPrediction lost = PredictGrasp(heavy, physics, 0.3);
+  EXPECT_FALSE(lost.canHold);
+  EXPECT_LT(lost.margin, 0.8);
+  EXPECT_FALSE(lost.nearBoundary);
+}
+
 // How many of a fingertip's contour points press a flat face.
 double FlatFacePressingPoints(const PhysicsParams& physics, double spacing, double radius,
                               double depth) {
