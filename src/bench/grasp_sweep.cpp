@@ -1254,10 +1254,35 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       };
       const double staticTorque = o.tableStatic * weight * rEff;
       const double kineticTorque = o.tableKinetic * weight * rEff;
-      p.catchUpSpeed = catchUp(torqueAt(turnSign), torqueAt(turnSign), kFollowAngle, staticTorque,
-                               kineticTorque, mass.inertia, false);
-      p.stopSpeed = catchUp(torqueAt(-turnSign), torqueAt(-turnSign), kFollowAngle, staticTorque,
-                            kineticTorque, mass.inertia, true);
+      // Ninth revision: how far the object may lag (or, stopping, lead) while it catches up. A
+      // lag the grip holds elastically is given back: its torque rises with the lag until the
+      // bodies slide (on a round slice friction alone turns it, flat once every body slides) or
+      // leave their faces' ends, and the object comes to rest where the table's static friction
+      // holds it against the grip, at most the lag eps0 at which the grip's torque reached static
+      // friction. Only what the grip slides beyond that elastic lag stays behind. So the object
+      // follows within 5 degrees when eps0 is within 5 degrees (the margin C(5 deg) / R above)
+      // and the lag it reaches while catching up stays within the elastic lag plus the 5 degrees
+      // less eps0 it may keep; never less than the 5 degrees that counted before.
+      auto lagLimit = [&](double sign) {
+        constexpr double kScanStep = DegToRad(0.5);
+        constexpr int kScanSteps = 60;  // up to 30 degrees
+        double previous = 0.0, elastic = kScanSteps * kScanStep, loose = kInfinity;
+        for (int j = 1; j <= kScanSteps; ++j) {
+          const double lag = j * kScanStep, torque = gripTorque(sign, lag);
+          if (loose == kInfinity && torque >= staticTorque) loose = lag;
+          if (torque <= previous) {
+            elastic = lag - kScanStep;
+            break;
+          }
+          previous = torque;
+        }
+        if (loose > elastic) return kFollowAngle;
+        return std::max(kFollowAngle, elastic + kFollowAngle - loose);
+      };
+      p.catchUpSpeed = catchUp(torqueAt(turnSign), torqueAt(turnSign), lagLimit(turnSign),
+                               staticTorque, kineticTorque, mass.inertia, false);
+      p.stopSpeed = catchUp(torqueAt(-turnSign), torqueAt(-turnSign), lagLimit(-turnSign),
+                            staticTorque, kineticTorque, mass.inertia, true);
       p.margin = std::min({p.margin, p.catchUpSpeed / s.turnRate, p.stopSpeed / s.turnRate});
       p.capacity = p.margin * p.requirement;
     }
