@@ -1828,6 +1828,7 @@ std::string GraspSweepJson(const GraspSweepReport& report) {
       << ", \"margin_max\": "
       << (std::isfinite(r.prediction.marginMax) ? r.prediction.marginMax : 1e9)
       << ", \"slide_turn_deg\": " << RadToDeg(r.prediction.slideTurn)
+      << ", \"fingers\": " << r.scene.fingers.size() << ", \"depth\": " << r.scene.depth
       << ", \"can_hold\": " << (r.prediction.canHold ? "true" : "false")
       << ", \"near_boundary\": " << (r.prediction.nearBoundary ? "true" : "false")
       << ", \"outcomes\": [";
