@@ -2,16 +2,14 @@
 // first frame: real clips started at every 5 s mark, each still on its own, and the synthetic
 // camera started with hands down, with a first touch on a dim table, and with the shadows and
 // dark spots that must leave no contact (docs/sensing.md, "From the first frame").
-#include "proxygrasp/sensing/sensor.h"
-
 #include "test_paths.h"
 
 #include "proxygrasp/core/units.h"
+#include "proxygrasp/sensing/sensor.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 
-#include <opencv2/imgproc.hpp>
-
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -24,6 +22,14 @@ namespace pg {
 namespace {
 
 // ---- the synthetic camera started with hands down, a dim table's first touch, shadows ----
+
+// Camera seeds 1 to 6 (issue 45); under the sanitizers, ten times slower, seed 1 alone: the code
+// it runs is the same for every seed, and the sanitizer phase of CI is near its time budget.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr int kLastSeed = 1;
+#else
+constexpr int kLastSeed = 6;
+#endif
 
 // a sensor on a synthetic camera with its true calibration and no background: estimated
 struct Start {
@@ -48,9 +54,10 @@ bool Covered(const ContourFrame& f, Vec2 p) {
   for (const Blob& b : f.blobs) {
     std::vector<cv::Point2f> outline;
     for (Eigen::Index k = 0; k < b.contour.cols(); ++k)
-      outline.emplace_back(static_cast<float>(b.contour(0, k)), static_cast<float>(b.contour(1, k)));
-    if (cv::pointPolygonTest(outline, cv::Point2f(static_cast<float>(p.x()), static_cast<float>(p.y())),
-                             false) >= 0)
+      outline.emplace_back(static_cast<float>(b.contour(0, k)),
+                           static_cast<float>(b.contour(1, k)));
+    if (cv::pointPolygonTest(
+            outline, cv::Point2f(static_cast<float>(p.x()), static_cast<float>(p.y())), false) >= 0)
       return true;
   }
   return false;
@@ -60,7 +67,7 @@ bool Covered(const ContourFrame& f, Vec2 p) {
 // lying still for 0.5 s, then sliding away at 10 cm/s: each is found from the first frame. What
 // the warm-up took in (they lay still through it) comes back as they move: printed, and bounded.
 TEST(FirstFrames, HandsDownAtTheStartAreFoundAtOnce) {
-  for (int seed = 1; seed <= 6; ++seed) {
+  for (int seed = 1; seed <= kLastSeed; ++seed) {
     SyntheticCameraParams p;
     p.seed = seed;
     Start s(p);
@@ -88,9 +95,10 @@ TEST(FirstFrames, HandsDownAtTheStartAreFoundAtOnce) {
       for (const Blob& b : r.value().blobs)
         phantoms += ShapeDistance(flat, b.centroid) > 1.0 && ShapeDistance(five, b.centroid) > 1.0;
     }
-    std::printf("seed %d: flat hand first found at frame %d, five-finger hand at %d; 0.2 to 1.5 s: "
-                "%d of 156 missed; after 1.5 s %d of %d missed; %d contacts off the hands\n",
-                seed, firstFlat, firstFive, missedEarly, missedMoving, movingFrames, phantoms);
+    std::printf(
+        "seed %d: flat hand first found at frame %d, five-finger hand at %d; 0.2 to 1.5 s: "
+        "%d of 156 missed; after 1.5 s %d of %d missed; %d contacts off the hands\n",
+        seed, firstFlat, firstFive, missedEarly, missedMoving, movingFrames, phantoms);
     // "found within 0.2 s" (12 frames at 60 Hz)
     EXPECT_GE(firstFlat, 0);
     EXPECT_LE(firstFlat, 12);
@@ -108,7 +116,7 @@ TEST(FirstFrames, HandsDownAtTheStartAreFoundAtOnce) {
 // Sensor.AdaptiveLevelFindsADimTablesTouchesAndKeepsTheThresholdOnABrightOne) = 4.3 grey, under
 // the touch's high-passed peak of 8 x 0.84 = 6.7 grey; 0.3 of that is 2 grey, under the floor.
 TEST(FirstFrames, FirstTouchOnADimTableIsFoundAtOnce) {
-  for (int seed = 1; seed <= 6; ++seed) {
+  for (int seed = 1; seed <= kLastSeed; ++seed) {
     SyntheticCameraParams p;
     p.seed = seed;
     p.noise = 0.7;
@@ -119,8 +127,8 @@ TEST(FirstFrames, FirstTouchOnADimTableIsFoundAtOnce) {
     int first = -1, missedAfter = 0, phantoms = 0;
     for (int i = 0; i < 180; ++i) {
       const bool down = i >= 60;
-      const std::vector<ContactShape> shapes = down ? std::vector<ContactShape>{tip}
-                                                    : std::vector<ContactShape>{};
+      const std::vector<ContactShape> shapes =
+          down ? std::vector<ContactShape>{tip} : std::vector<ContactShape>{};
       Result<ContourFrame> r = s.sensor.Step(s.camera.Render(shapes), i, i / 60.0);
       ASSERT_TRUE(r);
       const bool seen = Covered(r.value(), tip.pose.pos);
@@ -129,10 +137,10 @@ TEST(FirstFrames, FirstTouchOnADimTableIsFoundAtOnce) {
       for (const Blob& b : r.value().blobs)
         phantoms += !down || (b.centroid - tip.pose.pos).norm() > 1.0;
     }
-    std::printf("seed %d: the touch at frame 60 first found at frame %d (%.3f s); %d frames "
-                "missed after; %d other contacts; level %.2f\n",
-                seed, first, (first - 60) / 60.0, missedAfter, phantoms,
-                s.sensor.LastThreshold());
+    std::printf(
+        "seed %d: the touch at frame 60 first found at frame %d (%.3f s); %d frames "
+        "missed after; %d other contacts; level %.2f\n",
+        seed, first, (first - 60) / 60.0, missedAfter, phantoms, s.sensor.LastThreshold());
     EXPECT_GE(first, 60) << "seed " << seed;
     EXPECT_LE(first, 72) << "seed " << seed;
     EXPECT_EQ(missedAfter, 0) << "seed " << seed;
@@ -167,7 +175,7 @@ cv::Mat DiscMask(const Start& s, Vec2 at, double diameter) {
 // from the first frame or landing at 1 s (while the background settles, when it comes down fast
 // where the frame is darker: never below the first frame's spatial estimate) or at 8 s; wider
 // dark spots (4 cm, 30 and 60 grey, 2 s) and a shallow one (20 grey, 10 s). Each run lasts until
-// 6 s after the shadow goes.
+// 3 s after the shadow goes: a spot learned darker than the table reads as a touch when it goes.
 TEST(FirstFrames, EmptyTableShadowsAndDarkSpotsLeaveNoContact) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "too slow under the sanitizers (48 runs, 11 s in Release): run in Release";
@@ -179,13 +187,14 @@ TEST(FirstFrames, EmptyTableShadowsAndDarkSpotsLeaveNoContact) {
                         {60.0, 2.0, 8.0, 2.0}, {20.0, 2.0, 1.0, 2.0}, {30.0, 4.0, 1.0, 2.0},
                         {60.0, 4.0, 1.0, 2.0}, {20.0, 2.0, 1.0, 10.0}};
   int runs = 0;
-  for (int seed = 1; seed <= 6; ++seed) {
-    SyntheticCameraParams p;
-    p.seed = seed;
-    for (const Case& c : cases) {
+  for (const Case& c : cases) {
+    // the spot's mask is the same for every seed (the camera's geometry is)
+    const cv::Mat mask = DiscMask(Start(SyntheticCameraParams()), {30.0, 22.0}, c.diameter);
+    for (int seed = 1; seed <= kLastSeed; ++seed) {
+      SyntheticCameraParams p;
+      p.seed = seed;
       Start s(p);
-      const cv::Mat mask = DiscMask(s, {30.0, 22.0}, c.diameter);
-      const double end = c.from + c.duration + 6.0;
+      const double end = c.from + c.duration + 3.0;
       int contacts = 0;
       // 20 Hz keeps the test short; the learning is paced by time, not frames
       for (int i = 0; i / 20.0 < end; ++i) {
@@ -202,7 +211,7 @@ TEST(FirstFrames, EmptyTableShadowsAndDarkSpotsLeaveNoContact) {
       ++runs;
     }
   }
-  EXPECT_EQ(runs, 48);
+  EXPECT_EQ(runs, 8 * kLastSeed);
 }
 
 // ---- real table footage (../shared/real), started at every 5 s mark ----
@@ -213,9 +222,9 @@ constexpr const char* kNoRealData =
 
 // the scores of one clip started at its 5 s marks
 struct MarkScores {
-  int hotClearHits = 0;   // contacts at a hot spot on clear frames, 1 s or more after a start
-  int hotLongest = 0;     // frames, the longest a contact stayed at a hot spot after 1 s
-  std::vector<int> starts;           // frames
+  int hotClearHits = 0;     // contacts at a hot spot on clear frames, 1 s or more after a start
+  int hotLongest = 0;       // frames, the longest a contact stayed at a hot spot after 1 s
+  std::vector<int> starts;  // frames
   std::vector<real::Score> scores;  // per start
   real::Score total;
 };
@@ -278,13 +287,13 @@ MarkScores ScoreFromMarks(const std::string& dir, const real::LabelledClip& clip
   return m;
 }
 
-// Issue 45: every clip started at 5 s marks with no earlier frames (the stills on their own), scored
-// on its labelled frames from 0.2 s after the start to the end of the clip: at least 95% of the
-// fingertips found, at most one unmatched contact per 20 labelled frames. A labelled frame counts
-// once for every start before it. The sensors work as the pipeline's do, the high-pass only where
-// a contact can be (the same contours). Every mark of every clip is some 6 s of sensing in Release
-// (one pass over each clip's frames, all the starts' sensors on it): the test does not run under
-// the sanitizers, ten times slower (the chain it checks runs there in the other real-footage
+// Issue 45: every clip started at 5 s marks with no earlier frames (the stills on their own),
+// scored on its labelled frames from 0.2 s after the start to the end of the clip: at least 95% of
+// the fingertips found, at most one unmatched contact per 20 labelled frames. A labelled frame
+// counts once for every start before it. The sensors work as the pipeline's do, the high-pass only
+// where a contact can be (the same contours). Every mark of every clip is some 6 s of sensing in
+// Release (one pass over each clip's frames, all the starts' sensors on it): the test does not run
+// under the sanitizers, ten times slower (the chain it checks runs there in the other real-footage
 // tests).
 TEST(RealFootage, StartedAtEvery5SecondMarkAndStillsAlone) {
 #if defined(__SANITIZE_ADDRESS__)
@@ -323,7 +332,6 @@ TEST(RealFootage, StartedAtEvery5SecondMarkAndStillsAlone) {
   EXPECT_GE(all.found, 0.95 * all.tips) << all.misses;
   EXPECT_LE(all.unmatched * 20, all.frames) << all.misses;
 }
-
 
 }  // namespace
 }  // namespace pg

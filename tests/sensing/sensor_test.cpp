@@ -593,10 +593,11 @@ TEST(EstimateBackground, MatchesTheClearTableUnderContacts) {
   const cv::Mat estimate =
       EstimateBackground(camera.Render(shapes), 1.0 / camera.model().CmPerPixel(Vec2(320, 240)));
   const cv::Mat clear = camera.Background();
-  // away from the hands (beyond their halo and one 32 px block, about 3 cm) the estimate is the
-  // clear table within 8 grey (noise quantile offset plus interpolation); near them it may absorb
-  // part of the halo (brighter), but it is never more than 12 grey darker than the clear table,
-  // so it cannot lift the background noise over the 60 grey threshold anywhere
+  // away from the hands (beyond their halo and 3 cm, two of the estimate's 1.5 cm blocks) the
+  // estimate is the clear table within 8 grey (the opening's lower envelope of the vignetting and
+  // gradient, interpolation); near them it may absorb part of the halo (brighter), but it is never
+  // more than 12 grey darker than the clear table, so it cannot lift the background noise over the
+  // 30 grey threshold anywhere
   double worstFar = 0.0, worstDarker = 0.0;
   for (int v = 0; v < clear.rows; ++v) {
     for (int u = 0; u < clear.cols; ++u) {
