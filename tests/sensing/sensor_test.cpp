@@ -178,8 +178,9 @@ TEST(Sensor, EmptyTableHasNoPhantoms) {
   // threshold mode: 20 frames each (the adaptive mode 180, 3 s, so that its level has come down
   // from the threshold to the noise floor: with no touch seen it is held at the threshold for a
   // second from the first frame, then falls by a factor e a second from 30 to 5 sigma = 16 grey,
-  // by 1.6 s) must hold no contact at all. At 16 grey, 5 deviations of the 3-grey noise, a pixel passes with
-  // probability 3e-7 and a contact needs a cross of 5 such pixels to survive the opening.
+  // by 1.6 s) must hold no contact at all. At 16 grey, 5 deviations of the 3-grey noise, a pixel
+  // passes with probability 3e-7 and a contact needs a cross of 5 such pixels to survive the
+  // opening.
   for (int strategy = 0; strategy < 3; ++strategy) {
     for (ThresholdMode mode :
          {ThresholdMode::kFixed, ThresholdMode::kAuto, ThresholdMode::kAdaptive}) {
