@@ -48,8 +48,8 @@ Result<std::string> FindLevelFile(const std::string& nameOrPath,
   if (searched.empty()) searched = "no level folders";
   std::string message = "level " + nameOrPath + ": not a file, and no " + file + " in " + searched;
   const std::vector<std::string> names = ListLevelNames(dirs);
-  const std::string stem = EndsWithToml(nameOrPath) ? nameOrPath.substr(0, nameOrPath.size() - 5)
-                                                    : nameOrPath;
+  const std::string stem =
+      EndsWithToml(nameOrPath) ? nameOrPath.substr(0, nameOrPath.size() - 5) : nameOrPath;
   message += DidYouMean(stem, names);
   return MakeError({}, message);
 }

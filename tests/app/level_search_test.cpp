@@ -49,8 +49,9 @@ TEST_F(LevelSearch, TheWorkingDirectorysLevelsComeFirst) {
   std::ofstream("here.toml") << "name = \"here\"\n";
   EXPECT_EQ(ResolveLevel("here.toml").value(), "here.toml");
   // an unknown name names the folders searched
-  EXPECT_THAT(ResolveLevel("mien").error().Format(),
-              HasSubstr("level mien: not a file, and no mien.toml in levels (did you mean 'mine'?)"));
+  EXPECT_THAT(
+      ResolveLevel("mien").error().Format(),
+      HasSubstr("level mien: not a file, and no mien.toml in levels (did you mean 'mine'?)"));
 }
 
 }  // namespace

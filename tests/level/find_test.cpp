@@ -18,8 +18,8 @@ class FindLevel : public ::testing::Test {
  protected:
   void SetUp() override {
     m_root = fs::temp_directory_path() /
-             ("pg_find_level_" + std::string(
-                                     ::testing::UnitTest::GetInstance()->current_test_info()->name()));
+             ("pg_find_level_" +
+              std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(m_root);
     fs::create_directories(m_root / "first");
     fs::create_directories(m_root / "second");
@@ -57,8 +57,9 @@ TEST_F(FindLevel, ANameIsLookedUpInTheFoldersInOrder) {
 TEST_F(FindLevel, AnUnknownNameListsTheFoldersAndSuggests) {
   const Result<std::string> r = FindLevelFile("demo_srot", m_dirs);
   ASSERT_FALSE(r.ok());
-  EXPECT_THAT(r.error().Format(), HasSubstr("level demo_srot: not a file, and no demo_srot.toml in " +
-                                            m_dirs[0] + ", " + m_dirs[1]));
+  EXPECT_THAT(r.error().Format(),
+              HasSubstr("level demo_srot: not a file, and no demo_srot.toml in " + m_dirs[0] +
+                        ", " + m_dirs[1]));
   EXPECT_THAT(r.error().Format(), HasSubstr("did you mean 'demo_sort'?"));
   // with no folders to search, it says so
   EXPECT_THAT(FindLevelFile("demo_sort", {}).error().Format(), HasSubstr("no level folders"));

@@ -17,8 +17,7 @@ namespace pg {
 /// Not found, the Error says what was tried, lists the folders searched and suggests the
 /// closest level name found there ("did you mean 'demo_sort'?"). An existing folder, or a path
 /// with a '/' that is not a file, is an Error naming the path.
-Result<std::string> FindLevelFile(const std::string& nameOrPath,
-                                  std::span<const std::string> dirs);
+Result<std::string> FindLevelFile(const std::string& nameOrPath, std::span<const std::string> dirs);
 
 /// The level names (file stems of *.toml, sorted, without duplicates) in these folders; missing
 /// folders are skipped.
