@@ -4,14 +4,13 @@
 // SOURCE: camera:N, /dev/videoN, video:FILE or a video file (a recording made by
 // `proxygrasp run LEVEL --record FILE.mkv` replays the level's script). LEVEL: a file, or a name
 // in the installed levels (default demo_sort). A source that does not open is an error naming it.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <proxygrasp/level/find.h>
 #include <proxygrasp/level/level.h>
 #include <proxygrasp/run/frame_input.h>
 #include <proxygrasp/run/simulation.h>
-
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -55,8 +54,9 @@ int main(int argc, char** argv) {
     }
   }
   if (positional.empty() || positional.size() > 2) {
-    std::fprintf(stderr, "usage: embed_camera SOURCE [LEVEL] [--frames N]\n"
-                         "  SOURCE: camera:N, /dev/videoN, video:FILE or a video file\n");
+    std::fprintf(stderr,
+                 "usage: embed_camera SOURCE [LEVEL] [--frames N]\n"
+                 "  SOURCE: camera:N, /dev/videoN, video:FILE or a video file\n");
     return 2;
   }
   source = positional[0];

@@ -3,14 +3,13 @@
 // of 0.8 cm) slides across the table into the level's first object, frame by frame, and the
 // objects' poses are read back from the physics.
 //   embed_contours [LEVEL] [--frames N]     LEVEL: a file, or a name in the installed levels
-#include <proxygrasp/level/find.h>
-#include <proxygrasp/level/level.h>
-#include <proxygrasp/run/simulation.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <proxygrasp/level/find.h>
+#include <proxygrasp/level/level.h>
+#include <proxygrasp/run/simulation.h>
 #include <string>
 #include <vector>
 
