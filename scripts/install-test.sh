@@ -56,6 +56,7 @@ step "installed headers: the public list, compiled through pkg-config proxygrasp
 export PKG_CONFIG_PATH="$prefix/lib/pkgconfig:$prefix/lib/$(gcc -print-multiarch)/pkgconfig"
 cflags=$(pkg-config --cflags proxygrasp) || fail "pkg-config --cflags proxygrasp"
 headers=$(cd "$prefix/include" && find proxygrasp -name '*.h' | sort)
+[ -d "$build/header_check" ] || fail "$build has no header_check/ (a sanitizer build? use build/release)"
 expected=$(ls "$build"/header_check/*.cpp | wc -l)
 [ "$(echo "$headers" | wc -l)" = "$expected" ] || fail "$(echo "$headers" | wc -l) headers installed, $expected public"
 echo "$headers" | sed 's/.*/#include <&>/' > "$work/all_headers.cpp"
