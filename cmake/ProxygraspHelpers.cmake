@@ -26,9 +26,12 @@ endif()
 function(proxygrasp_module name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_library(pg_${name} STATIC ${ARG_SOURCES})
-  target_include_directories(pg_${name} PUBLIC ${PROJECT_SOURCE_DIR}/include
+  # the installed library finds its headers under the prefix's include/ (cmake/ProxygraspInstall.cmake)
+  target_include_directories(pg_${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+                                               $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
                                         PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
-  target_link_libraries(pg_${name} PUBLIC ${ARG_DEPS} PRIVATE proxygrasp_options)
+  # the warning flags are this project's own business: not part of what is installed
+  target_link_libraries(pg_${name} PUBLIC ${ARG_DEPS} PRIVATE $<BUILD_INTERFACE:proxygrasp_options>)
 endfunction()
 
 # proxygrasp_tests(module [TARGET name] TESTS name... [LIBS ...] [INCLUDES dir...]
