@@ -13,6 +13,9 @@ packages=(
   # libraries (see docs/architecture.md for where each is used)
   libbox2d-dev libopencv-dev libeigen3-dev libsdl2-dev libtomlplusplus-dev libcli11-dev libimgui-dev
   liblo-dev
+  # depth cameras: Kinect v1 through libfreenect, OpenNI2 devices and ONI recordings
+  # (docs/sensing.md, "Depth cameras"); the build works without them, those sources then say so
+  libfreenect-dev libopenni2-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth liblo-tools
 )

@@ -1,5 +1,7 @@
 #include "proxygrasp/sensing/frame_source.h"
 
+#include "proxygrasp/sensing/depth_source.h"
+
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -264,6 +266,9 @@ Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec) {
   using Ptr = std::unique_ptr<FrameSource>;
   if (spec.empty())
     return MakeError({}, "no input given (camera:N, a video, a folder or synthetic:NAME)");
+
+  // depth cameras and their recordings (sensing/depth_source.h)
+  if (IsDepthSourceSpec(spec)) return OpenDepthSource(spec);
 
   // built-in synthetic demo scenes
   if (StartsWith(spec, "synthetic:")) {

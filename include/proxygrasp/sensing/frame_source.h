@@ -1,6 +1,7 @@
 // Where camera frames come from: a camera (index or V4L2 device path), a video file, a folder of
-// numbered images, or the synthetic table camera. Every source delivers 8-bit grey frames and says
-// clearly when it cannot open or stops delivering; a lost camera is a status, never a crash.
+// numbered images, the synthetic table camera, or a depth camera (sensing/depth_source.h). Every
+// source delivers 8-bit grey frames, or depth sources 16-bit depth in mm, and says clearly when it
+// cannot open or stops delivering; a lost camera is a status, never a crash.
 #pragma once
 
 #include "proxygrasp/core/error.h"
@@ -29,12 +30,13 @@ enum class FrameStatus {
 /// Names of FrameStatus values, in enum order.
 inline constexpr const char* kFrameStatusNames[] = {"ok", "end", "lost", "error"};
 
-/// A stream of 8-bit grey (CV_8UC1) frames. Other modules may implement it (a level's script
+/// A stream of 8-bit grey (CV_8UC1) frames, or of depth (CV_16UC1, mm, 0 = no reading) for the
+/// depth sources. Other modules may implement it (a level's script
 /// rendered through the synthetic camera, say).
 class FrameSource {
  public:
   virtual ~FrameSource() = default;
-  /// Reads the next frame into `frame` (CV_8UC1 when kOk).
+  /// Reads the next frame into `frame` (CV_8UC1, or CV_16UC1 depth in mm, when kOk).
   virtual FrameStatus Read(cv::Mat& frame) = 0;
   /// What this source is, for messages: "camera 0", "video clip.mp4", ...
   virtual std::string Describe() const = 0;
@@ -51,7 +53,8 @@ class FrameSource {
 
 /// Opens a source from a spec: "camera:N", a "/dev/video*" path, "video:FILE" or a video file,
 /// an image file (one frame), "folder:DIR" or a directory, "synthetic:fingers" or "synthetic:hands"
-/// (built-in demo scenes). Errors name the spec and say what went wrong.
+/// (built-in demo scenes), or a depth source: depth:DIR, fakenect:DIR, oni:FILE, openni[:URI],
+/// kinect[:N] (OpenDepthSource). Errors name the spec and say what went wrong.
 Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec);
 
 /// A script for SyntheticSource: the shapes on the table at a frame; false ends the script.
