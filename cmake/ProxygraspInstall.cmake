@@ -64,6 +64,13 @@ endforeach()
 # the CMake package: targets, config (which finds the dependencies) and version
 set(config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/proxygrasp)
 install(EXPORT proxygraspTargets NAMESPACE proxygrasp:: DESTINATION ${config_dir} COMPONENT dev)
+# the depth cameras' pkg-config modules the sensing library was built with (PREFIX=module)
+get_property(PROXYGRASP_DEPTH_PACKAGES GLOBAL PROPERTY PROXYGRASP_DEPTH_PACKAGES)
+set(pc_depth_requires)
+foreach(entry ${PROXYGRASP_DEPTH_PACKAGES})
+  string(REGEX REPLACE "^[^=]*=" "" module ${entry})
+  string(APPEND pc_depth_requires " ${module}")
+endforeach()
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/proxygraspConfig.cmake.in
                               ${PROJECT_BINARY_DIR}/proxygraspConfig.cmake
                               INSTALL_DESTINATION ${config_dir}
@@ -113,6 +120,11 @@ set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
     "proxygrasp (= ${PROJECT_VERSION}), libopencv-dev (>= 4.5), libeigen3-dev (>= 3.4), \
 libbox2d-dev (>= 2.4), libtomlplusplus-dev (>= 3), liblo-dev, pkg-config")
+# the depth cameras' -dev packages, where the build linked them
+foreach(entry ${PROXYGRASP_DEPTH_PACKAGES})
+  string(REGEX REPLACE "^[^=]*=" "" module ${entry})
+  string(APPEND CPACK_DEBIAN_DEV_PACKAGE_DEPENDS ", ${module}-dev")
+endforeach()
 set(CPACK_COMPONENT_RUNTIME_DESCRIPTION "${CPACK_PACKAGE_DESCRIPTION}")
 set(CPACK_COMPONENT_DEV_DESCRIPTION
     "Headers, static libraries, CMake package (find_package(proxygrasp), target \
