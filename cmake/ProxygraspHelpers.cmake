@@ -76,6 +76,11 @@ const char* ProxygraspBin() { return \"$<TARGET_FILE:proxygrasp>\"; }
   endif()
   gtest_discover_tests(${target} DISCOVERY_MODE PRE_TEST
                        PROPERTIES LABELS ${module} TIMEOUT ${ARG_TIMEOUT})
+  # Temporary files go under the build folder (std::filesystem::temp_directory_path reads TMPDIR),
+  # so that builds in other clones or worktrees running their tests at the same time never share
+  # a fixed name under /tmp.
+  file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/tmp)
+  list(PREPEND ARG_ENVIRONMENT "TMPDIR=${CMAKE_BINARY_DIR}/tmp")
   if(ARG_ENVIRONMENT)
     # gtest_discover_tests flattens its PROPERTIES, which keeps only the first variable of an
     # ENVIRONMENT list: set the variables on the discovered tests (${target}_TESTS) instead, from a
