@@ -6,6 +6,8 @@
 #include "commands.h"
 
 #include "proxygrasp/sensing/calibrate.h"
+#include "proxygrasp/sensing/depth_plane.h"
+#include "proxygrasp/sensing/depth_source.h"
 #include "proxygrasp/sensing/frame_source.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 
@@ -174,6 +176,58 @@ class CameraRig final : public Rig {
 };
 #endif
 
+// A depth camera needs no projector: the table's plane and its top's corners come from the depth
+// frames themselves (docs/calibration.md, "Depth cameras").
+int CalibrateDepthCamera(const CalibrateArgs& args, const TableParams& table) {
+  Result<std::unique_ptr<FrameSource>> source = OpenFrameSource(args.camera);
+  if (!source.ok()) {
+    std::cerr << "proxygrasp calibrate: " << source.error().Format() << "\n";
+    return kExitBadInput;
+  }
+  const int wanted = args.backgroundFrames > 0 ? args.backgroundFrames : 1;
+  std::cout << "clear the table: reading " << wanted << " depth frames from "
+            << source.value()->Describe() << "\n";
+  std::vector<cv::Mat> frames;
+  cv::Mat frame;
+  while (static_cast<int>(frames.size()) < wanted) {
+    const FrameStatus status = source.value()->Read(frame);
+    if (status == FrameStatus::kEnd) break;
+    if (status != FrameStatus::kOk) {
+      std::cerr << "proxygrasp calibrate: " << source.value()->Describe() << ": "
+                << source.value()->LastError() << "\n";
+      return kExitBadInput;
+    }
+    frames.push_back(frame.clone());
+  }
+  if (frames.empty()) {
+    std::cerr << "proxygrasp calibrate: " << source.value()->Describe()
+              << ": no depth frame to calibrate from\n";
+    return kExitBadInput;
+  }
+  Result<DepthCalibration> fit =
+      CalibrateDepth(frames, table, DepthIntrinsics::KinectV1(frames.front().size()));
+  if (!fit.ok()) {
+    std::cerr << "proxygrasp calibrate: " << source.value()->Describe() << ": "
+              << fit.error().Format() << "; nothing saved\n";
+    return kExitFailed;
+  }
+  const DepthCalibration& d = fit.value();
+  char summary[320];
+  std::snprintf(summary, sizeof(summary),
+                "table plane %.0f mm from the camera, tilted %.2f degrees, rms %.2f mm over %d of "
+                "%d readings; table top %.1f x %.1f cm, %.0f%% of it seen\n",
+                d.plane.Distance(), d.plane.TiltDeg(), d.plane.rms, d.plane.inliers,
+                d.plane.samples, 0.1 * d.rectangle.widthMm, 0.1 * d.rectangle.depthMm,
+                100.0 * d.rectangle.fill);
+  std::cout << "read " << frames.size() << " frames; " << summary;
+  if (MaybeError s = SaveCalibration(args.output, d.calibration)) {
+    std::cerr << "proxygrasp calibrate: " << s->Format() << "\n";
+    return kExitBadInput;
+  }
+  std::cout << "saved " << args.output << "\n";
+  return kExitOk;
+}
+
 int Calibrate(const CalibrateArgs& args) {
   // options
   CalibrateParams params;
@@ -216,6 +270,7 @@ int Calibrate(const CalibrateArgs& args) {
               << folder.string() << " is not a folder)\n";
     return kExitBadInput;
   }
+  if (!args.synthetic && IsDepthSourceSpec(args.camera)) return CalibrateDepthCamera(args, table);
   Result<ChessboardTarget> target = MakeChessboardTarget(table, params);
   if (!target.ok()) {
     std::cerr << "proxygrasp calibrate: " << target.error().Format() << "\n";

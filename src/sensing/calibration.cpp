@@ -178,6 +178,7 @@ MaybeError SaveCalibration(const std::string& path, const Calibration& c) {
     fs << "camera_to_table" << cv::Mat(c.cameraToTable);
     fs << "table_to_display" << cv::Mat(c.tableToDisplay);
     if (!c.background.empty()) fs << "background" << c.background;
+    if (!c.depthPlane.empty()) fs << "depth_plane" << c.depthPlane;
     if (!c.sensing.empty()) {
       // numbers as numbers, quoted TOML strings as strings
       fs << "sensing"
@@ -293,6 +294,19 @@ Result<Calibration> LoadCalibration(const std::string& path) {
     }
     if (c.background.empty())
       return MakeError({path}, "field 'background' is not an OpenCV matrix (!!opencv-matrix)");
+  }
+
+  // depth_plane is optional: the table's plane of a depth camera, a unit normal and an offset
+  if (!fs["depth_plane"].empty()) {
+    cv::Mat plane;
+    if (MaybeError s = ReadMatrix(fs, path, "depth_plane", 1, 4, plane)) return *s;
+    const double n = std::sqrt(plane.at<double>(0) * plane.at<double>(0) +
+                               plane.at<double>(1) * plane.at<double>(1) +
+                               plane.at<double>(2) * plane.at<double>(2));
+    if (std::abs(n - 1.0) > 1e-6)
+      return MakeError({path}, "field 'depth_plane' must start with a unit normal (its length is " +
+                                   FormatDouble(n) + ")");
+    c.depthPlane = plane;
   }
 
   // sensing is optional: a map of [sensing] keys to numbers or names (checked where applied)

@@ -3,7 +3,9 @@
 #include "proxygrasp/core/rng.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -119,8 +121,9 @@ Result<TablePlane> FitTablePlane(const cv::Mat& depthMm, const DepthIntrinsics& 
     return MakeError({"depth image"}, cv::typeToString(depthMm.type()) +
                                           " image where depth in mm (16-bit or float, single "
                                           "channel) is expected");
-  if (params.step < 1 || params.iterations < 1 || !(params.minShare > 0.0))
-    return MakeError({"plane fit"}, "step and iterations must be at least 1, the share positive");
+  if (params.step < 1 || params.iterations < 1 || !(params.minShare > 0.0) || params.candidates < 1)
+    return MakeError({"plane fit"},
+                     "step, iterations and candidates must be at least 1, the share positive");
   const std::vector<Eigen::Vector3d> points = SamplePoints(depthMm, k, params.step);
   constexpr size_t kFewest = 30;  // readings below which a plane means nothing
   if (points.size() < kFewest)
@@ -130,54 +133,93 @@ Result<TablePlane> FitTablePlane(const cv::Mat& depthMm, const DepthIntrinsics& 
   std::vector<double> tolerance(points.size());
   for (size_t i = 0; i < points.size(); ++i) tolerance[i] = Tolerance(points[i], params);
 
-  // RANSAC: the plane through three random readings that holds the most of them
+  // Sequential RANSAC: the plane through three random readings that holds the most of the
+  // readings left, refitted by least squares; its readings are taken away and the next is sought.
+  // Each plane holding at least minShare of all readings is a candidate.
   Rng rng(params.seed);
-  const auto pick = [&] {
-    return static_cast<size_t>(rng.Uniform() * static_cast<double>(points.size())) %
-           points.size();
-  };
-  TablePlane best;
-  int bestCount = -1;
-  for (int it = 0; it < params.iterations; ++it) {
-    const Eigen::Vector3d& a = points[pick()];
-    const Eigen::Vector3d& b = points[pick()];
-    const Eigen::Vector3d& c = points[pick()];
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    // three readings nearly in a line (or repeated) give no plane: their triangle's area is under
-    // a square centimetre
-    if (n.norm() < 2.0 * 100.0) continue;
-    const TablePlane candidate = Oriented(n.normalized(), a);
-    const int count = CountInliers(points, candidate, tolerance);
-    if (count > bestCount) {
-      bestCount = count;
-      best = candidate;
+  std::vector<Eigen::Vector3d> left = points;
+  std::vector<double> leftTolerance = tolerance;
+  const size_t needed =
+      static_cast<size_t>(std::ceil(params.minShare * static_cast<double>(points.size())));
+  std::vector<TablePlane> candidates;
+  TablePlane largest;
+  int largestCount = 0;
+  for (int round = 0; round < params.candidates && left.size() >= std::max<size_t>(needed, 3);
+       ++round) {
+    const auto pick = [&] {
+      return static_cast<size_t>(rng.Uniform() * static_cast<double>(left.size())) % left.size();
+    };
+    TablePlane best;
+    int bestCount = -1;
+    for (int it = 0; it < params.iterations; ++it) {
+      const Eigen::Vector3d& a = left[pick()];
+      const Eigen::Vector3d& b = left[pick()];
+      const Eigen::Vector3d& c = left[pick()];
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      // three readings nearly in a line (or repeated) give no plane: their triangle's area is
+      // under a square centimetre
+      if (n.norm() < 2.0 * 100.0) continue;
+      const TablePlane candidate = Oriented(n.normalized(), a);
+      const int count = CountInliers(left, candidate, leftTolerance);
+      if (count > bestCount) {
+        bestCount = count;
+        best = candidate;
+      }
     }
+    if (bestCount < 0) break;
+    // least squares on the inliers, twice (the inliers of the refined plane)
+    for (int pass = 0; pass < 2; ++pass) best = Refit(left, best, leftTolerance);
+    const int count = CountInliers(left, best, leftTolerance);
+    if (count > largestCount) {
+      largestCount = count;
+      largest = best;
+    }
+    if (static_cast<size_t>(count) < needed) break;
+    candidates.push_back(best);
+    size_t kept = 0;
+    for (size_t i = 0; i < left.size(); ++i) {
+      if (std::abs(best.Height(left[i])) <= leftTolerance[i]) continue;
+      left[kept] = left[i];
+      leftTolerance[kept] = leftTolerance[i];
+      ++kept;
+    }
+    left.resize(kept);
+    leftTolerance.resize(kept);
   }
-  if (bestCount < 0)
-    return MakeError({"depth image"}, "its readings lie in a line: no plane to fit");
-  // least squares on the inliers, twice (the inliers of the refined plane)
-  for (int pass = 0; pass < 2; ++pass) best = Refit(points, best, tolerance);
 
+  // The table: the nearest candidate facing the camera. A floor seen around a table is larger
+  // but farther; walls and a desk's front are seen edge-on.
+  const TablePlane* chosen = nullptr;
+  for (const TablePlane& c : candidates)
+    if (c.TiltDeg() <= params.maxTiltDeg && (!chosen || c.offset < chosen->offset)) chosen = &c;
+  if (!chosen) {
+    char text[200];
+    if (candidates.empty())
+      std::snprintf(text, sizeof text,
+                    "the largest plane holds %.0f%% of the readings (need %.0f%%): no table in "
+                    "view",
+                    100.0 * largestCount / static_cast<double>(points.size()),
+                    100.0 * params.minShare);
+    else
+      std::snprintf(text, sizeof text,
+                    "no plane holding %.0f%% of the readings faces the camera (within %.0f "
+                    "degrees; the largest is tilted %.0f): no table in view",
+                    100.0 * params.minShare, params.maxTiltDeg, candidates.front().TiltDeg());
+    return MakeError({"depth image"}, text);
+  }
+  TablePlane out = *chosen;
   double sumSq = 0.0;
   int inliers = 0;
   for (size_t i = 0; i < points.size(); ++i) {
-    const double h = best.Height(points[i]);
+    const double h = out.Height(points[i]);
     if (std::abs(h) > tolerance[i]) continue;
     sumSq += h * h;
     ++inliers;
   }
-  best.inliers = inliers;
-  best.samples = static_cast<int>(points.size());
-  best.rms = inliers > 0 ? std::sqrt(sumSq / inliers) : 0.0;
-  const double share = static_cast<double>(inliers) / static_cast<double>(points.size());
-  if (share < params.minShare) {
-    char text[160];
-    std::snprintf(text, sizeof text,
-                  "the largest plane holds %.0f%% of the readings (need %.0f%%): no table in view",
-                  100.0 * share, 100.0 * params.minShare);
-    return MakeError({"depth image"}, text);
-  }
-  return best;
+  out.inliers = inliers;
+  out.samples = static_cast<int>(points.size());
+  out.rms = inliers > 0 ? std::sqrt(sumSq / inliers) : 0.0;
+  return out;
 }
 
 void HeightAbovePlane(const cv::Mat& depthMm, const DepthIntrinsics& k, const TablePlane& plane,
@@ -198,6 +240,199 @@ void HeightAbovePlane(const cv::Mat& depthMm, const DepthIntrinsics& k, const Ta
                    : 0.0f;
     }
   }
+}
+
+}  // namespace pg
+
+namespace pg {
+
+namespace {
+
+// Where a ray through image px (u, v) meets the plane, camera frame, mm.
+Eigen::Vector3d OnPlane(const DepthIntrinsics& k, const TablePlane& plane, cv::Point2d px) {
+  const Eigen::Vector3d ray((px.x - k.cx) / k.fx, (px.y - k.cy) / k.fy, 1.0);
+  return ray * (-plane.offset / plane.normal.dot(ray));
+}
+
+}  // namespace
+
+Result<TableRectangle> FindTableRectangle(const cv::Mat& depthMm, const DepthIntrinsics& k,
+                                          const TablePlane& plane, const PlaneFitParams& params,
+                                          int gapPx) {
+  if (depthMm.empty() || (depthMm.type() != CV_16UC1 && depthMm.type() != CV_32FC1))
+    return MakeError({"depth image"}, cv::typeToString(depthMm.type()) +
+                                          " image where depth in mm (16-bit or float, single "
+                                          "channel) is expected");
+  cv::Mat height;
+  HeightAbovePlane(depthMm, k, plane, height);
+  cv::Mat on(depthMm.size(), CV_8UC1, cv::Scalar(0));
+  for (int y = 0; y < depthMm.rows; ++y) {
+    const float* h = height.ptr<float>(y);
+    uint8_t* o = on.ptr<uint8_t>(y);
+    for (int x = 0; x < depthMm.cols; ++x) {
+      const double z = depthMm.type() == CV_16UC1 ? depthMm.at<uint16_t>(y, x)
+                                                  : static_cast<double>(depthMm.at<float>(y, x));
+      if (z > 0.0 && std::isfinite(z) &&
+          std::abs(h[x]) <= std::max(params.tolerance, params.toleranceSteps * KinectDepthStep(z)))
+        o[x] = 255;
+    }
+  }
+  // hands and things on the table, and holes in the readings, closed over
+  cv::Mat region;
+  if (gapPx > 0) {
+    const cv::Mat disc =
+        cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * gapPx + 1, 2 * gapPx + 1));
+    cv::morphologyEx(on, region, cv::MORPH_CLOSE, disc);
+  } else {
+    region = on.clone();
+  }
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(region, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  if (contours.empty()) return MakeError({"depth image"}, "no pixel lies on the table's plane");
+  size_t largest = 0;
+  double largestArea = 0.0;
+  for (size_t i = 0; i < contours.size(); ++i) {
+    const double a = cv::contourArea(contours[i]);
+    if (a > largestArea) {
+      largestArea = a;
+      largest = i;
+    }
+  }
+  const std::vector<cv::Point>& outline = contours[largest];
+
+  // the table must lie wholly in view: an outline running along a border for more than a tenth of
+  // it has the table cut off there
+  const char* borders[4] = {"left", "right", "top", "bottom"};
+  int along[4] = {};
+  for (const cv::Point& p : outline) {
+    along[0] += p.x <= 0;
+    along[1] += p.x >= depthMm.cols - 1;
+    along[2] += p.y <= 0;
+    along[3] += p.y >= depthMm.rows - 1;
+  }
+  for (int b = 0; b < 4; ++b) {
+    const int length = b < 2 ? depthMm.rows : depthMm.cols;
+    if (along[b] > length / 10)
+      return MakeError({"depth image"}, std::string("the table runs out of the image at its ") +
+                                            borders[b] +
+                                            " edge: the camera must see the whole table top");
+  }
+
+  std::vector<cv::Point> hull, quad;
+  cv::convexHull(outline, hull);
+  const double perimeter = cv::arcLength(hull, true);
+  for (double eps = 0.01; eps <= 0.1 && quad.size() != 4; eps += 0.005)
+    cv::approxPolyDP(hull, quad, eps * perimeter, true);
+  if (quad.size() != 4)
+    return MakeError({"depth image"}, "the table top's outline is no quadrilateral (" +
+                                          std::to_string(quad.size()) + " corners)");
+
+  // far left: least x + y; far right: most x - y; near right: most x + y; near left: least x - y
+  TableRectangle rect;
+  const auto pick = [&](auto score) {
+    cv::Point best = quad[0];
+    for (const cv::Point& p : quad)
+      if (score(p) > score(best)) best = p;
+    return cv::Point2d(best.x, best.y);
+  };
+  rect.corners[0] = pick([](cv::Point p) { return -(p.x + p.y); });
+  rect.corners[1] = pick([](cv::Point p) { return p.x - p.y; });
+  rect.corners[2] = pick([](cv::Point p) { return p.x + p.y; });
+  rect.corners[3] = pick([](cv::Point p) { return -(p.x - p.y); });
+
+  Eigen::Vector3d c[4];
+  for (int i = 0; i < 4; ++i) c[i] = OnPlane(k, plane, rect.corners[i]);
+  rect.widthMm = 0.5 * ((c[1] - c[0]).norm() + (c[2] - c[3]).norm());
+  rect.depthMm = 0.5 * ((c[3] - c[0]).norm() + (c[2] - c[1]).norm());
+  cv::Mat inside(depthMm.size(), CV_8UC1, cv::Scalar(0));
+  cv::fillConvexPoly(inside, quad, cv::Scalar(255));
+  const int area = cv::countNonZero(inside);
+  cv::Mat onInside;
+  cv::bitwise_and(on, inside, onInside);
+  rect.fill = area > 0 ? static_cast<double>(cv::countNonZero(onInside)) / area : 0.0;
+  return rect;
+}
+
+cv::Matx33d RectangleToTable(const TableRectangle& rect, double widthCm, double heightCm) {
+  const cv::Point2f from[4] = {rect.corners[0], rect.corners[1], rect.corners[2], rect.corners[3]};
+  const cv::Point2f to[4] = {{0.0f, static_cast<float>(heightCm)},
+                             {static_cast<float>(widthCm), static_cast<float>(heightCm)},
+                             {static_cast<float>(widthCm), 0.0f},
+                             {0.0f, 0.0f}};
+  const cv::Mat h = cv::getPerspectiveTransform(from, to);
+  return cv::Matx33d(h.ptr<double>());
+}
+
+}  // namespace pg
+
+namespace pg {
+
+Result<cv::Mat> MedianDepth(std::span<const cv::Mat> frames) {
+  if (frames.empty()) return MakeError({"depth frames"}, "no frames to take the median of");
+  const cv::Size size = frames.front().size();
+  for (size_t i = 0; i < frames.size(); ++i) {
+    if (frames[i].type() != CV_16UC1 || frames[i].size() != size)
+      return MakeError({"depth frame " + std::to_string(i)},
+                       cv::typeToString(frames[i].type()) + " " + std::to_string(frames[i].cols) +
+                           "x" + std::to_string(frames[i].rows) + " where " +
+                           std::to_string(size.width) + "x" + std::to_string(size.height) +
+                           " 16-bit depth (mm) like the first frame's is expected");
+  }
+  cv::Mat median(size, CV_32FC1);
+  std::vector<uint16_t> values;
+  values.reserve(frames.size());
+  for (int y = 0; y < size.height; ++y) {
+    float* out = median.ptr<float>(y);
+    for (int x = 0; x < size.width; ++x) {
+      values.clear();
+      for (const cv::Mat& f : frames) {
+        const uint16_t v = f.at<uint16_t>(y, x);
+        if (v > 0) values.push_back(v);
+      }
+      if (values.empty()) {
+        out[x] = 0.0f;
+        continue;
+      }
+      const size_t mid = values.size() / 2;
+      std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid),
+                       values.end());
+      out[x] = values[mid];
+    }
+  }
+  return median;
+}
+
+Result<DepthCalibration> CalibrateDepth(std::span<const cv::Mat> frames, const TableParams& table,
+                                        const DepthIntrinsics& k, double sizeTolerance) {
+  Result<cv::Mat> surface = MedianDepth(frames);
+  if (!surface) return surface.error();
+  Result<TablePlane> plane = FitTablePlane(surface.value(), k);
+  if (!plane) return plane.error();
+  Result<TableRectangle> rect = FindTableRectangle(surface.value(), k, plane.value());
+  if (!rect) return rect.error();
+  const double widthCm = 0.1 * rect.value().widthMm, heightCm = 0.1 * rect.value().depthMm;
+  if (std::abs(widthCm - table.width) > sizeTolerance * table.width ||
+      std::abs(heightCm - table.height) > sizeTolerance * table.height) {
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "the table top measures %.1f x %.1f cm on its plane but the table is %.1f x "
+                  "%.1f cm (more than %.0f%% apart): give the table's size, or clear the view of "
+                  "other flat things",
+                  widthCm, heightCm, table.width, table.height, 100.0 * sizeTolerance);
+    return MakeError({"depth frames"}, text);
+  }
+  DepthCalibration out;
+  out.plane = plane.value();
+  out.rectangle = rect.value();
+  Calibration& c = out.calibration;
+  c.imageSize = surface.value().size();
+  c.cameraMatrix = (cv::Mat_<double>(3, 3) << k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+  c.distCoeffs = cv::Mat::zeros(1, 5, CV_64F);
+  c.cameraToTable = RectangleToTable(rect.value(), table.width, table.height);
+  c.tableToDisplay = DefaultTableToDisplay(table);
+  const TablePlane& p = out.plane;
+  c.depthPlane = (cv::Mat_<double>(1, 4) << p.normal.x(), p.normal.y(), p.normal.z(), p.offset);
+  return out;
 }
 
 }  // namespace pg

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
 
+#include <cmath>
 #include <fstream>
 
 namespace pg {
@@ -145,6 +146,32 @@ TEST(Calibration, EmptyOrHeaderlessFileSaysWhatIsWrong) {
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().Format(),
             headerless + ": not an OpenCV YAML file: the first line must be %YAML:1.0");
+}
+
+TEST(Calibration, ADepthCamerasPlaneRoundTripsAndMustHaveAUnitNormal) {
+  Calibration c = CalibrationFromModel(DistortedModel());
+  const double n[3] = {0.06, -0.04, -0.9974};
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  c.depthPlane = (cv::Mat_<double>(1, 4) << n[0] / len, n[1] / len, n[2] / len, 1012.5);
+  const std::string path = ::testing::TempDir() + "/depth_plane.yaml";
+  ASSERT_FALSE(SaveCalibration(path, c));
+  Result<Calibration> back = LoadCalibration(path);
+  ASSERT_TRUE(back) << back.error().Format();
+  ASSERT_EQ(back.value().depthPlane.size(), cv::Size(4, 1));
+  // written in full precision: read back within a rounding of the last digit
+  EXPECT_LE(cv::norm(back.value().depthPlane, c.depthPlane, cv::NORM_INF), 1e-12);
+  // an IR camera's file has none
+  ASSERT_FALSE(SaveCalibration(path, CalibrationFromModel(DistortedModel())));
+  Result<Calibration> none = LoadCalibration(path);
+  ASSERT_TRUE(none) << none.error().Format();
+  EXPECT_TRUE(none.value().depthPlane.empty());
+  // a normal that is not of unit length is named
+  c.depthPlane = (cv::Mat_<double>(1, 4) << 0.0, 0.0, -2.0, 1000.0);
+  ASSERT_FALSE(SaveCalibration(path, c));
+  Result<Calibration> bad = LoadCalibration(path);
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().Format(),
+            path + ": field 'depth_plane' must start with a unit normal (its length is 2)");
 }
 
 TEST(Calibration, MissingFieldIsNamed) {

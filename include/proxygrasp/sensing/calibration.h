@@ -45,6 +45,10 @@ struct Calibration {
   cv::Matx33d cameraToTable = cv::Matx33d::eye();   ///< undistorted camera px -> table cm
   cv::Matx33d tableToDisplay = cv::Matx33d::eye();  ///< table cm -> display px
   cv::Mat background;  ///< optional CV_8UC1 clear-table frame of imageSize; empty when absent
+  /// Optional, depth cameras: the table's plane in the camera frame as 1x4 CV_64F (nx, ny, nz,
+  /// offset mm; a point X, mm, lies n . X + offset above it), fitted with cameraMatrix as the depth
+  /// camera's intrinsics (`calibrate --depth`). Empty when absent.
+  cv::Mat depthPlane;
   /// Optional sensing values tuned for this table (`proxygrasp tune`): a [sensing] key and its
   /// value as TOML text ("9.2", "\"fixed\""), in file order. See ApplyCalibrationSensing.
   std::vector<std::pair<std::string, std::string>> sensing;

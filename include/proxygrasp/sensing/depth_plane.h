@@ -8,11 +8,14 @@
 #pragma once
 
 #include "proxygrasp/core/error.h"
+#include "proxygrasp/core/table.h"
+#include "proxygrasp/sensing/calibration.h"
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <span>
 
 namespace pg {
 
@@ -59,18 +62,63 @@ struct PlaneFitParams {
   int iterations = 300;       ///< RANSAC draws of three points
   double tolerance = 5.0;     ///< a reading within max(tolerance, tolerance_steps x its depth's
   double toleranceSteps = 2;  ///< quantisation step) of the plane is an inlier, mm and steps
-  double minShare = 0.3;      ///< the plane must hold this share of the sampled readings
+  double minShare = 0.2;      ///< a candidate plane holds at least this share of the readings
+  int candidates = 4;         ///< planes sought one after the other, each without the last's
+  double maxTiltDeg = 45.0;   ///< the table faces the camera: its normal within this of the axis
   uint64_t seed = 1;          ///< the draws' seed: the same image gives the same plane
 };
 
-/// Fits the largest plane of a depth image (CV_16UC1 or CV_32F, mm, 0 = no reading): on a table
-/// seen from above that is the table. An Error names the image's type, or says how few readings
-/// it has, or what share of them the best plane held.
+/// Finds the table's plane in a depth image (CV_16UC1 or CV_32F, mm, 0 = no reading): of the
+/// planes that each hold params.minShare of the readings (sought largest first), the nearest one
+/// facing the camera (tilted at most params.maxTiltDeg). A floor around the table is larger but
+/// farther; walls are seen edge-on. An Error names the image's type, or says how few readings it
+/// has, or why no plane qualified.
 Result<TablePlane> FitTablePlane(const cv::Mat& depthMm, const DepthIntrinsics& k,
                                  const PlaneFitParams& params = {});
 
 /// The height of every pixel above the plane (CV_32F, mm; 0 where there is no reading).
 void HeightAbovePlane(const cv::Mat& depthMm, const DepthIntrinsics& k, const TablePlane& plane,
                       cv::Mat& heightMm);
+
+/// The table's top as a quadrilateral in the depth image, and its size measured on the plane.
+struct TableRectangle {
+  /// Corners in image px: the far left (nearest the image's top-left), far right, near right,
+  /// near left, as the uncalibrated mapping has the image's top at the table's far edge.
+  cv::Point2d corners[4];
+  double widthMm = 0.0;  ///< mean length of the far and near edges on the plane, mm
+  double depthMm = 0.0;  ///< mean length of the left and right edges on the plane, mm
+  double fill = 0.0;     ///< share of the quadrilateral's pixels that lie on the plane
+};
+
+/// Finds the table's top: the largest connected region of pixels on `plane` (within the fit's
+/// tolerance, with gaps up to `gapPx` closed: hands and things on the table, holes in the
+/// readings), fitted with a quadrilateral. The table must lie wholly in view: a region that reaches
+/// the image's border is an Error naming the border ("the table runs out of the image at its left
+/// edge"), as is a region whose outline is no quadrilateral.
+Result<TableRectangle> FindTableRectangle(const cv::Mat& depthMm, const DepthIntrinsics& k,
+                                          const TablePlane& plane,
+                                          const PlaneFitParams& params = {}, int gapPx = 15);
+
+/// The homography from undistorted depth-image px to table cm that puts the rectangle's corners on
+/// a table of `widthCm` x `heightCm` with the proxygrasp table convention (origin at the near-left
+/// corner, x right, y toward the far edge).
+cv::Matx33d RectangleToTable(const TableRectangle& rect, double widthCm, double heightCm);
+
+/// The per-pixel median of depth frames (CV_16UC1, mm, all one size), readings only: a pixel with
+/// no reading in any frame is 0. Hands passing over a still table leave it. CV_32F, mm.
+Result<cv::Mat> MedianDepth(std::span<const cv::Mat> frames);
+
+/// A depth camera's calibration from frames of the table (`calibrate` with a depth source).
+struct DepthCalibration {
+  Calibration calibration;  ///< intrinsics, no distortion, the homography and the plane
+  TablePlane plane;
+  TableRectangle rectangle;
+};
+
+/// Fits the table's plane to the frames' median, finds the table top in it, checks that the top
+/// measures `table` (within `sizeTolerance` of each side: a wrong --table, or another flat thing
+/// taken for the table, is an Error saying both sizes), and maps the top's corners onto the table.
+Result<DepthCalibration> CalibrateDepth(std::span<const cv::Mat> frames, const TableParams& table,
+                                        const DepthIntrinsics& k, double sizeTolerance = 0.05);
 
 }  // namespace pg
