@@ -987,6 +987,9 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
   // one face of a cage) the object settles where they balance. The grip is symmetric about the
   // first fingertip's line of push, so the object moves along it.
   Vec2 shift = Vec2::Zero();
+  // Tenth revision: the imbalance B the table's static friction holds while the object has not
+  // moved, dyn along the first fingertip's push (see breaking loose, below)
+  double restImbalance = 0.0;
   if ((s.grip == GraspGrip::kOpposed && fingers > 2) ||
       (s.grip == GraspGrip::kCaged && fingers > 3)) {
     const Vec2 axis = s.fingers.front().inward;
@@ -1001,7 +1004,14 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       (imbalance(mid) > 0.0 ? lo : hi) = mid;
     }
     shift = axis * (0.5 * (lo + hi));
+    // The fingers come in slowly and B grows with their depth. While |B| <= mu_s W the table's
+    // static friction keeps the object where it was and B stays on it; beyond, it slides towards
+    // the weaker side during the squeeze and comes to rest with mu_k W of B left.
+    const double b = imbalance(0.0);
+    restImbalance =
+        std::abs(b) <= o.tableStatic * weight ? b : std::copysign(o.tableKinetic * weight, b);
   }
+  p.restImbalance = restImbalance;
   // the normal force at rest, and how many bodies press
   double bodiesAtRest = 0.0;
   for (size_t i = 0; i < fingers; ++i) {
@@ -1137,10 +1147,17 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         r.axial = std::max(sum.dot(dir), 0.0);
         return r;
       };
+      // Tenth revision: while the object rests, the table's static friction already holds the
+      // imbalance B the sides leave (unequal sides; 0 for a symmetric grip), along the axis. The
+      // object breaks loose when the whole force on it, B plus what the lag adds, reaches mu_s W
+      // in any direction: B counts with its sign along the lead (against the motion it takes
+      // some of the across force's share of the circle; along it, it adds to the push).
+      const double preload = restImbalance * axis.dot(lead);
+      auto looseMagnitude = [&](const Lagged& r) { return std::hypot(r.axial + preload, r.held); };
       auto breakingForce = [&](double l, double acrossLag, double& elastic) {
         const Lagged r = laggedGrip(lead, l, acrossLag);
         elastic = r.elastic;
-        return std::hypot(r.axial, r.held);
+        return looseMagnitude(r);
       };
       constexpr int kLags = 32;
       for (int j = 0; j <= kLags; ++j) {
@@ -1174,10 +1191,12 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         double lagLimit = cosE > 1e-9 ? physics.gripMaxDepth / cosE : kInfinity;
         if (sinE > 1e-9) lagLimit = std::min(lagLimit, acrossLimit / sinE);
         double looseLag = kInfinity;
+        double mostLoose = 0.0;  // the most force the grip reaches while the object rests
         for (int j = 0; j <= kStepLags; ++j) {
           const double lag = lagLimit * j / kStepLags;
           const Lagged r = laggedGrip(lead, lag * cosE, lag * sinE);
-          if (std::hypot(r.axial, r.held) >= breakLoose) {
+          mostLoose = std::max(mostLoose, looseMagnitude(r));
+          if (looseMagnitude(r) >= breakLoose) {
             looseLag = lag;
             break;
           }
@@ -1198,7 +1217,13 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         };
         p.catchUpSpeed = std::isfinite(looseLag) ? speedFor(lead, looseLag, -1.0) : 0.0;
         p.stopSpeed = speedFor(-lead, 0.0, 1.0);
-        p.margin = std::min({p.margin, p.catchUpSpeed / s.speed, p.stopSpeed / s.speed});
+        // Tenth revision: a grip that never breaks the object loose within the lags searched has
+        // no catch-up to measure; its margin is how near it came, the most force it reaches over
+        // mu_s W (below 1), not 0. (A grip 2% short of mu_s W was called as far from holding as
+        // one that presses nothing.)
+        p.margin =
+            std::min({p.margin, p.stopSpeed / s.speed,
+                      std::isfinite(looseLag) ? p.catchUpSpeed / s.speed : mostLoose / breakLoose});
       }
       p.capacity = p.margin * p.requirement;
     } else {

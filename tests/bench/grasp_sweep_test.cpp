@@ -504,6 +504,75 @@ TEST(GraspRule, AHandOfThreeFingersAgainstAThumbBalancesWithEqualSides) {
   EXPECT_LT(0.5 * p.normalForce, 3.0 * single);
 }
 
+TEST(GraspRule, StaticFrictionHoldsWhatUnequalSidesLeaveAndItHelpsTheGripBreakTheObjectLoose) {
+  // Tenth revision. A thumb against three fingertips, every contour 0.4 cm inside a flat face
+  // (R 0.8): with the object where the squeeze leaves it, the thumb presses F1 (one fingertip's
+  // FlatFaceIntegral) and the three 3 F1, so B = F1 - 3 F1 = -2 F1 along the thumb's push. The
+  // table's static friction holds that while |B| <= mu_s W: a 900 g box keeps it all, a 100 g
+  // box slides towards the thumb during the squeeze and keeps mu_k W. Carried straight across the
+  // axis (phi = 90 deg), the grip's across force is friction, at most mu_p N once the springs
+  // have stretched (the slip the rule allows for breaking loose, 0.5 cm, is beyond their
+  // stretch), and the box breaks loose when the whole force on it reaches mu_s W in any
+  // direction: margin hypot(2 F1, mu_p N) / (mu_s W), where before the revision it was
+  // mu_p N / (mu_s W). 2%: F1 from the contour's samples against the integral (1%, as above),
+  // twice.
+  const PhysicsParams physics;
+  auto handScene = [&](double mass) {
+    GraspScene s = OpposedBoxScene(0.4, 0.8);
+    s.object = Box(4.0, 8.0, mass);
+    s.object.tableStatic = 0.5;
+    s.object.tableKinetic = 0.1;
+    s.object.particleFriction = 0.3;
+    for (double y : {-2.2, 2.2}) {
+      GraspFinger f = s.fingers[1];
+      f.pos.y() = y;
+      s.fingers.push_back(f);
+    }
+    SetCarry(s, Vec2(0.0, 1.0), 10.0, 5.0, Vec2(30.0, 23.0));
+    return s;
+  };
+  const double f1 = FlatFaceIntegral(physics, 0.3, 0.8, 0.4);
+
+  const GraspScene heavy = handScene(900.0);
+  const double w = 900.0 * physics.gravity, staticLimit = 0.5 * w;
+  ASSERT_LT(2.0 * f1, staticLimit);  // the premise: static friction holds B
+  const GraspPrediction p = PredictGrasp(heavy, physics, 0.3);
+  EXPECT_NEAR(p.restImbalance, -2.0 * f1, 0.02 * 2.0 * f1);
+  const double muPN = 0.3 * p.normalForce;
+  const double loose = std::hypot(2.0 * f1, muPN) / staticLimit;
+  // sliding asks mu_k W + M a of friction, far below mu_p N: breaking loose decides
+  const double slide = muPN / (0.1 * w + 900.0 * (5.0 * 5.0 / 10.0));
+  ASSERT_GT(slide, 1.5 * loose);
+  EXPECT_NEAR(p.margin, loose, 0.02 * loose);
+  EXPECT_GT(p.margin, 1.1 * muPN / staticLimit);
+
+  // the light box slid during the squeeze and keeps kinetic friction's worth of B
+  const GraspPrediction light = PredictGrasp(handScene(100.0), physics, 0.3);
+  ASSERT_GT(2.0 * f1, 0.5 * 100.0 * physics.gravity);
+  EXPECT_NEAR(light.restImbalance, -0.1 * 100.0 * physics.gravity, 1e-6);
+  // two fingertips, one on each side, leave nothing
+  EXPECT_EQ(PredictGrasp(OpposedBoxScene(0.4, 0.8), physics, 0.3).restImbalance, 0.0);
+}
+
+TEST(GraspRule, AStepTheGripCannotBreakLooseHasTheMarginOfHowNearItCameNotZero) {
+  // Tenth revision. Two fingertips on a 100 g box (mu_s 0.5, mu_k 0.4) with mu_p 0.1, carried
+  // straight across their axis with a step of 5 cm/s: across, the grip's force is friction, at
+  // most mu_p N, which stays below mu_s W, so the box never breaks loose and there is no
+  // catch-up to measure. The margin is how near the grip came, mu_p N / (mu_s W) (exact: the
+  // springs reach mu_p N within the lags searched), as for the bang-bang carry; before, the step
+  // gave 0. The sliding margin, mu_p N / (mu_k W), is above it.
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  s.object.particleFriction = 0.1;
+  SetCarry(s, Vec2(0.0, 1.0), 10.0, 5.0, Vec2(30.0, 23.0));
+  s.profile = GraspProfile::kStep;
+  const GraspPrediction p = PredictGrasp(s, physics, 0.3);
+  const double w = 100.0 * physics.gravity, muPN = 0.1 * p.normalForce;
+  ASSERT_LT(muPN, 0.5 * w);
+  EXPECT_NEAR(p.margin, muPN / (0.5 * w), 1e-3 * muPN / (0.5 * w));
+  EXPECT_EQ(p.catchUpSpeed, 0.0);
+}
+
 // The fingertips of `fingers` whose discs overlap `fingers[i]`'s: what the merged outline hides
 // of it.
 std::vector<HiddenDisc> HiddenBy(const std::vector<GraspFinger>& fingers, size_t i) {

@@ -124,6 +124,10 @@ struct GraspPrediction {
   /// Fingers that slide over a round slice: the farthest one goes round it, rad. From 5 degrees
   /// on the scene is reported with the boundary (docs/physics.md, "A slide over a round slice")
   double slideTurn = 0.0;
+  /// What the sides' pushes leave along the grip's axis at rest, dyn (signed along the first
+  /// fingertip's push): the table's static friction holds it (tenth revision; 0 where the sides
+  /// press equally)
+  double restImbalance = 0.0;
 };
 
 /// What a scene did when run.
