@@ -898,6 +898,8 @@ bool App::Tick() {
   if (a.input == InputKind::kCamera || a.input == InputKind::kVideo)
     status += a.noInput ? " - no input, retrying" : " (" + a.sourceSpec + ")";
   if (const TuioStream* tuio = a.frames.tuio()) status += " (" + tuio->Status() + ")";
+  if (a.frames.skippedFrames() > 0)
+    status += "   " + std::to_string(a.frames.skippedFrames()) + " bad frame(s) skipped";
   if (a.paused) status += "   PAUSED";
   if (a.recorder.IsOpen()) status += "   REC " + a.recordDir;
   if (a.tuioOut) status += "   " + a.tuioOut->Status();
