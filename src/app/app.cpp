@@ -7,6 +7,7 @@
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/trace.h"
 #include "proxygrasp/run/tuio_output.h"
+#include "proxygrasp/sensing/depth_source.h"
 
 #include <SDL.h>
 #include <imgui.h>
@@ -423,6 +424,18 @@ MaybeError App::Impl::SetupInput() {
     Result<FrameInput> tuio = FrameInput::Open(spec);
     if (!tuio.ok()) return MakeError({}, "--input " + spec + ": " + tuio.error().Format());
     frames = std::move(tuio.value());
+  } else if (IsDepthSourceSpec(spec)) {
+    // a depth device is retried like a camera, a depth recording replays like a video
+    const bool live = IsLiveDepthSourceSpec(spec);
+    input = live ? InputKind::kCamera : InputKind::kVideo;
+    sourceSpec = spec;
+    Result<FrameInput> depth = FrameInput::Open(spec, /*keepMissing=*/live);
+    if (!depth.ok()) return MakeError({}, "--input " + spec + ": " + depth.error().Format());
+    frames = std::move(depth.value());
+    if (!frames.HasSource()) {
+      noInput = true;
+      runError = frames.LastError();
+    }
   } else if (spec.rfind("video:", 0) == 0) {
     input = InputKind::kVideo;
     sourceSpec = spec;
@@ -430,8 +443,11 @@ MaybeError App::Impl::SetupInput() {
     if (!video.ok()) return MakeError({}, "--input " + spec + ": " + video.error().Format());
     frames = std::move(video.value());
   } else {
-    return MakeError({}, "--input " + spec +
-                             ": expected camera:N, video:FILE, tuio:PORT, script, mouse or touch");
+    return MakeError(
+        {}, "--input " + spec +
+                ": expected camera:N, video:FILE, a depth source (kinect[:N], openni[:URI], "
+                "oni:FILE, depth:DIR, fakenect:DIR), tuio:PORT, script, mouse or "
+                "touch");
   }
   return std::nullopt;
 }

@@ -275,6 +275,11 @@ bool IsDepthSourceSpec(const std::string& spec) {
          StartsWith(spec, "kinect:");
 }
 
+bool IsLiveDepthSourceSpec(const std::string& spec) {
+  return spec == "openni" || StartsWith(spec, "openni:") || spec == "kinect" ||
+         StartsWith(spec, "kinect:");
+}
+
 Result<std::unique_ptr<FrameSource>> OpenDepthSource(const std::string& spec) {
   if (StartsWith(spec, "depth:")) return OpenDepthFolder(spec.substr(6));
   if (StartsWith(spec, "fakenect:")) return OpenFakenect(spec.substr(9));

@@ -60,6 +60,10 @@ class DepthRecordingWriter {
 /// kinect[:N].
 bool IsDepthSourceSpec(const std::string& spec);
 
+/// True when `spec` names a live depth device (kinect[:N], openni[:URI]), which may be lost and
+/// come back, rather than a recording.
+bool IsLiveDepthSourceSpec(const std::string& spec);
+
 /// Opens the depth source a spec names (IsDepthSourceSpec). A missing folder, file or device, a
 /// folder whose first image is not 16-bit, an INDEX.txt naming a file that is not there, an ONI
 /// file without a depth stream, or a build without the library a device needs, is an Error naming
