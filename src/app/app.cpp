@@ -406,17 +406,6 @@ MaybeError App::Impl::SetupInput() {
   } else if (spec == "mouse" || spec == "touch") {
     input = spec == "mouse" ? InputKind::kMouse : InputKind::kTouch;
     frames = FrameInput::Shapes();
-  } else if (spec.rfind("camera:", 0) == 0) {
-    // a camera that does not open now is retried: it may be plugged in later
-    input = InputKind::kCamera;
-    sourceSpec = spec;
-    Result<FrameInput> camera = FrameInput::Open(spec, /*keepMissing=*/true);
-    if (!camera.ok()) return MakeError({}, "--input " + spec + ": " + camera.error().Format());
-    frames = std::move(camera.value());
-    if (!frames.HasSource()) {
-      noInput = true;
-      runError = frames.LastError();
-    }
   } else if (spec.rfind("tuio:", 0) == 0) {
     // contacts from another tracker; the window's frame rate paces the run, so it never waits
     input = InputKind::kTuio;
@@ -424,24 +413,20 @@ MaybeError App::Impl::SetupInput() {
     Result<FrameInput> tuio = FrameInput::Open(spec);
     if (!tuio.ok()) return MakeError({}, "--input " + spec + ": " + tuio.error().Format());
     frames = std::move(tuio.value());
-  } else if (IsDepthSourceSpec(spec)) {
-    // a depth device is retried like a camera, a depth recording replays like a video
-    const bool live = IsLiveDepthSourceSpec(spec);
+  } else if (spec.rfind("camera:", 0) == 0 || spec.rfind("video:", 0) == 0 ||
+             IsDepthSourceSpec(spec)) {
+    // a camera or depth device that does not open now is retried: it may be plugged in later; a
+    // video or depth recording replays from its start
+    const bool live = spec.rfind("camera:", 0) == 0 || IsLiveDepthSourceSpec(spec);
     input = live ? InputKind::kCamera : InputKind::kVideo;
     sourceSpec = spec;
-    Result<FrameInput> depth = FrameInput::Open(spec, /*keepMissing=*/live);
-    if (!depth.ok()) return MakeError({}, "--input " + spec + ": " + depth.error().Format());
-    frames = std::move(depth.value());
+    Result<FrameInput> source = FrameInput::Open(spec, /*keepMissing=*/live);
+    if (!source.ok()) return MakeError({}, "--input " + spec + ": " + source.error().Format());
+    frames = std::move(source.value());
     if (!frames.HasSource()) {
       noInput = true;
       runError = frames.LastError();
     }
-  } else if (spec.rfind("video:", 0) == 0) {
-    input = InputKind::kVideo;
-    sourceSpec = spec;
-    Result<FrameInput> video = FrameInput::Open(spec);
-    if (!video.ok()) return MakeError({}, "--input " + spec + ": " + video.error().Format());
-    frames = std::move(video.value());
   } else {
     return MakeError(
         {}, "--input " + spec +
