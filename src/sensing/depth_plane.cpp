@@ -133,7 +133,8 @@ Result<TablePlane> FitTablePlane(const cv::Mat& depthMm, const DepthIntrinsics& 
   // RANSAC: the plane through three random readings that holds the most of them
   Rng rng(params.seed);
   const auto pick = [&] {
-    return static_cast<size_t>(rng.Uniform() * static_cast<double>(points.size())) % points.size();
+    return static_cast<size_t>(rng.Uniform() * static_cast<double>(points.size())) %
+           points.size();
   };
   TablePlane best;
   int bestCount = -1;

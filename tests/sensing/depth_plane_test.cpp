@@ -1,10 +1,9 @@
 #include "proxygrasp/sensing/depth_plane.h"
 
-#include "real_data.h"
-
 #include "proxygrasp/core/rng.h"
 #include "proxygrasp/sensing/depth_source.h"
 #include "proxygrasp/sensing/frame_source.h"
+#include "real_data.h"
 
 #include <gtest/gtest.h>
 
@@ -24,9 +23,9 @@ constexpr double kPi = 3.14159265358979323846;
 TablePlane Tilted(double tiltXDeg, double tiltYDeg, double distance) {
   const double ax = tiltXDeg * kPi / 180.0, ay = tiltYDeg * kPi / 180.0;
   TablePlane p;
-  p.normal =
-      Eigen::Vector3d(std::sin(ay), std::sin(ax) * std::cos(ay), -std::cos(ax) * std::cos(ay))
-          .normalized();
+  p.normal = Eigen::Vector3d(std::sin(ay), std::sin(ax) * std::cos(ay),
+                             -std::cos(ax) * std::cos(ay))
+                 .normalized();
   p.offset = distance;
   return p;
 }
@@ -90,8 +89,9 @@ TEST(FitTablePlane, ATiltedTableUnderHandsAndHolesIsFoundWithinATenthOfADegree) 
   const DepthIntrinsics k = DepthIntrinsics::KinectV1({640, 480});
   const TablePlane truth = Tilted(4.0, -2.5, 1000.0);
   // a sixth of the image above the table (a hand 20 mm up, a box 80 mm, an arm 150 mm), 8% holes
-  const std::vector<Box> boxes = {
-      {{100, 100, 160, 120}, 20.0}, {{400, 250, 120, 140}, 80.0}, {{300, 0, 80, 200}, 150.0}};
+  const std::vector<Box> boxes = {{{100, 100, 160, 120}, 20.0},
+                                  {{400, 250, 120, 140}, 80.0},
+                                  {{300, 0, 80, 200}, 150.0}};
   const cv::Mat depth = Render(k, truth, boxes, 0.08, 3);
   Result<TablePlane> fit = FitTablePlane(depth, k);
   ASSERT_TRUE(fit) << fit.error().Format();
@@ -101,7 +101,8 @@ TEST(FitTablePlane, ATiltedTableUnderHandsAndHolesIsFoundWithinATenthOfADegree) 
   // 0.75 to 0.92 mm. A least-squares slope over a 700 mm wide table from 14,700 such samples is
   // good to about 0.85 sqrt(12) / (700 sqrt(14,700)) rad = 0.002 degrees; the tenth of a degree
   // allows for the rounding being a sawtooth along the tilt rather than independent noise.
-  EXPECT_NEAR(std::acos(std::clamp(p.normal.dot(truth.normal), -1.0, 1.0)) * 180.0 / kPi, 0.0, 0.1);
+  EXPECT_NEAR(std::acos(std::clamp(p.normal.dot(truth.normal), -1.0, 1.0)) * 180.0 / kPi, 0.0,
+              0.1);
   EXPECT_NEAR(p.TiltDeg(), truth.TiltDeg(), 0.1);
   EXPECT_NEAR(p.Distance(), 1000.0, 1.0);  // the offset: the same rounding, averaged
   EXPECT_NEAR(p.rms, 0.85, 0.2);           // step / sqrt(12), above
