@@ -7,6 +7,7 @@
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/trace.h"
 #include "proxygrasp/run/tuio_output.h"
+#include "proxygrasp/sensing/depth_source.h"
 
 #include <SDL.h>
 #include <imgui.h>
@@ -405,17 +406,6 @@ MaybeError App::Impl::SetupInput() {
   } else if (spec == "mouse" || spec == "touch") {
     input = spec == "mouse" ? InputKind::kMouse : InputKind::kTouch;
     frames = FrameInput::Shapes();
-  } else if (spec.rfind("camera:", 0) == 0) {
-    // a camera that does not open now is retried: it may be plugged in later
-    input = InputKind::kCamera;
-    sourceSpec = spec;
-    Result<FrameInput> camera = FrameInput::Open(spec, /*keepMissing=*/true);
-    if (!camera.ok()) return MakeError({}, "--input " + spec + ": " + camera.error().Format());
-    frames = std::move(camera.value());
-    if (!frames.HasSource()) {
-      noInput = true;
-      runError = frames.LastError();
-    }
   } else if (spec.rfind("tuio:", 0) == 0) {
     // contacts from another tracker; the window's frame rate paces the run, so it never waits
     input = InputKind::kTuio;
@@ -423,15 +413,26 @@ MaybeError App::Impl::SetupInput() {
     Result<FrameInput> tuio = FrameInput::Open(spec);
     if (!tuio.ok()) return MakeError({}, "--input " + spec + ": " + tuio.error().Format());
     frames = std::move(tuio.value());
-  } else if (spec.rfind("video:", 0) == 0) {
-    input = InputKind::kVideo;
+  } else if (spec.rfind("camera:", 0) == 0 || spec.rfind("video:", 0) == 0 ||
+             IsDepthSourceSpec(spec)) {
+    // a camera or depth device that does not open now is retried: it may be plugged in later; a
+    // video or depth recording replays from its start
+    const bool live = spec.rfind("camera:", 0) == 0 || IsLiveDepthSourceSpec(spec);
+    input = live ? InputKind::kCamera : InputKind::kVideo;
     sourceSpec = spec;
-    Result<FrameInput> video = FrameInput::Open(spec);
-    if (!video.ok()) return MakeError({}, "--input " + spec + ": " + video.error().Format());
-    frames = std::move(video.value());
+    Result<FrameInput> source = FrameInput::Open(spec, /*keepMissing=*/live);
+    if (!source.ok()) return MakeError({}, "--input " + spec + ": " + source.error().Format());
+    frames = std::move(source.value());
+    if (!frames.HasSource()) {
+      noInput = true;
+      runError = frames.LastError();
+    }
   } else {
-    return MakeError({}, "--input " + spec +
-                             ": expected camera:N, video:FILE, tuio:PORT, script, mouse or touch");
+    return MakeError(
+        {}, "--input " + spec +
+                ": expected camera:N, video:FILE, a depth source (kinect[:N], openni[:URI], "
+                "oni:FILE, depth:DIR, fakenect:DIR), tuio:PORT, script, mouse or "
+                "touch");
   }
   return std::nullopt;
 }
@@ -898,6 +899,8 @@ bool App::Tick() {
   if (a.input == InputKind::kCamera || a.input == InputKind::kVideo)
     status += a.noInput ? " - no input, retrying" : " (" + a.sourceSpec + ")";
   if (const TuioStream* tuio = a.frames.tuio()) status += " (" + tuio->Status() + ")";
+  if (a.frames.skippedFrames() > 0)
+    status += "   " + std::to_string(a.frames.skippedFrames()) + " bad frame(s) skipped";
   if (a.paused) status += "   PAUSED";
   if (a.recorder.IsOpen()) status += "   REC " + a.recordDir;
   if (a.tuioOut) status += "   " + a.tuioOut->Status();

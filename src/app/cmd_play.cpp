@@ -227,8 +227,10 @@ void AddPlayCommand(CLI::App& app, int& exitCode) {
       "level", args.level,
       std::string("Level file (TOML) or level name, found as run's are; default ") + kDefaultLevel);
   cmd->add_option("--input", args.input,
-                  "camera:N, video:FILE, script, mouse, touch, or tuio:PORT / tuio:ADDRESS:PORT "
-                  "(TUIO over UDP) (default: camera 0 when it opens, else the mouse)");
+                  "camera:N, video:FILE, script, mouse, touch, a depth source (kinect[:N], "
+                  "openni[:URI], oni:FILE, depth:DIR, fakenect:DIR), or tuio:PORT / "
+                  "tuio:ADDRESS:PORT (TUIO over UDP) (default: camera 0 when it opens, else the "
+                  "mouse)");
   cmd->add_option("--set", args.sets, "Override a parameter: section.key=value (repeatable)");
   cmd->add_flag("--fullscreen", args.fullscreen, "Full screen on --display (the projector)");
   cmd->add_option("--display", args.display, "Display index for the window")

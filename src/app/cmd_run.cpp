@@ -118,9 +118,11 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--show", args.show,
                   "Overlays of --video and --png: forces,successors,camera,sensing,nohud,layer=N");
   cmd->add_flag("--profile", args.profile, "Print median and p99 milliseconds per stage");
-  cmd->add_option("--input", args.input,
-                  "Take every run's frames from here instead of the level's script: tuio:PORT or "
-                  "tuio:ADDRESS:PORT (TUIO over UDP), or a frame source (video:FILE, camera:N)");
+  cmd->add_option(
+      "--input", args.input,
+      "Take every run's frames from here instead of the level's script: tuio:PORT or "
+      "tuio:ADDRESS:PORT (TUIO over UDP), or a frame source (video:FILE, camera:N, or a "
+      "depth source: kinect[:N], openni[:URI], oni:FILE, depth:DIR, fakenect:DIR)");
   cmd->add_option("--record", args.record,
                   "Record the first run's camera frames to FILE (lossless .mkv) and its trace "
                   "into FILE's name without extension + _trace/");

@@ -189,7 +189,7 @@ int RunSense(const SenseOptions& o) {
   int badFrames = 0;
   int failuresInARow = 0;
   constexpr int kMaxFailuresInARow = 10;
-  constexpr int kReopenAttempts = 5;
+  constexpr int kReopenAttempts = 30;  // a second apart: a replugged Kinect takes a few seconds
   while (limit <= 0 || index < limit) {
     // the run starts with the first frame: its size is the camera size the sensor takes
     Result<FrameStatus> stepped = imageless ? FrameStatus::kOk : in.frames.Peek();
@@ -220,10 +220,13 @@ int RunSense(const SenseOptions& o) {
       // a camera that disappears: say so, and try to get it back for a few seconds
       std::cerr << me << in.frames.LastError() << "; no input, retrying\n";
       bool back = false;
-      for (int attempt = 0; attempt < kReopenAttempts && !back; ++attempt) {
+      int attempts = 0;
+      while (attempts < kReopenAttempts && !back) {
         std::this_thread::sleep_for(std::chrono::seconds(1));
+        ++attempts;
         back = !in.frames.Reconnect();
       }
+      if (back) std::cerr << me << in.frames.Describe() << ": back after " << attempts << " s\n";
       if (!back) {
         std::cerr << me << in.frames.Describe() << ": gave up after " << kReopenAttempts
                   << " attempts\n";

@@ -114,6 +114,11 @@ Result<FrameStatus> FrameInput::Step(Simulation& sim) {
       m_peeked = false;
       if (read != FrameStatus::kOk) {
         m_lastError = read == FrameStatus::kEnd ? "" : m_source->LastError();
+        if (read == FrameStatus::kError) {
+          // a frame that could not be read still takes its place: later frames keep their numbers
+          ++m_framesRead;
+          ++m_skippedFrames;
+        }
         return read;
       }
       const int64_t index = m_framesRead++;
@@ -123,13 +128,17 @@ Result<FrameStatus> FrameInput::Step(Simulation& sim) {
                       std::to_string(m_frame.cols) + "x" + std::to_string(m_frame.rows) +
                       ", expected " + std::to_string(expected.width) + "x" +
                       std::to_string(expected.height) + " ([camera] width and height)";
+        ++m_skippedFrames;
         return FrameStatus::kError;
       }
       status = sim.StepImage(m_frame);
       break;
     }
   }
-  if (status) return *status;
+  if (status) {
+    ++m_skippedFrames;
+    return *status;
+  }
   return FrameStatus::kOk;
 }
 

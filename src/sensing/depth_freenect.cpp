@@ -1,4 +1,5 @@
-// A live Kinect v1 through libfreenect: depth registered to millimetres (FREENECT_DEPTH_MM).
+// A live Kinect v1: the source on a device layer (KinectDevice), and that layer through
+// libfreenect, depth registered to millimetres (FREENECT_DEPTH_MM).
 #include "depth_devices.h"
 
 #include "proxygrasp/sensing/depth_source.h"
@@ -12,61 +13,35 @@
 
 namespace pg {
 
-#ifdef PROXYGRASP_HAVE_FREENECT
-
-bool HaveFreenect() {
-  return true;
-}
-
 namespace {
 
-class FreenectSource : public FrameSource {
+// the source: what it does when frames stop and when the device comes back, whatever the device
+class KinectSource : public FrameSource {
  public:
-  FreenectSource(int index, std::string spec) : m_index(index), m_spec(std::move(spec)) {}
-  ~FreenectSource() override { Close(); }
+  KinectSource(std::unique_ptr<KinectDevice> device, int index, std::string spec)
+      : m_device(std::move(device)), m_index(index), m_spec(std::move(spec)) {}
+  ~KinectSource() override { m_device->Close(); }
 
   MaybeError Open() {
-    Close();
-    if (freenect_init(&m_context, nullptr) < 0 || !m_context)
-      return MakeError({m_spec}, "libfreenect does not start (no USB access?)");
-    freenect_select_subdevices(m_context, FREENECT_DEVICE_CAMERA);
-    const int count = freenect_num_devices(m_context);
-    if (m_index >= count || freenect_open_device(m_context, &m_device, m_index) < 0) {
-      m_device = nullptr;
-      Close();
-      return MakeError({m_spec}, "no Kinect " + std::to_string(m_index) + " (" +
-                                     std::to_string(count < 0 ? 0 : count) +
-                                     " found; is it plugged in and powered?)");
-    }
-    const freenect_frame_mode mode =
-        freenect_find_depth_mode(FREENECT_RESOLUTION_MEDIUM, FREENECT_DEPTH_MM);
-    m_buffer.assign(static_cast<size_t>(mode.width) * mode.height, 0);
-    m_size = cv::Size(mode.width, mode.height);
-    freenect_set_user(m_device, this);
-    freenect_set_depth_callback(m_device, &FreenectSource::OnDepth);
-    if (freenect_set_depth_mode(m_device, mode) < 0 || freenect_start_depth(m_device) < 0) {
-      Close();
-      return MakeError({m_spec}, "cannot start the Kinect's depth stream");
-    }
+    m_device->Close();
+    m_open = false;
+    const std::string why = m_device->Open(m_index);
+    if (!why.empty()) return MakeError({m_spec}, why);
+    m_open = true;
     return std::nullopt;
   }
 
   FrameStatus Read(cv::Mat& frame) override {
-    if (!m_device) {
+    if (!m_open) {
       m_lastError = Describe() + ": not open";
       return FrameStatus::kLost;
     }
-    // events until a frame arrives, for at most a second (the Kinect sends 30 a second)
-    m_fresh = false;
-    timeval timeout{0, 100000};
-    for (int i = 0; i < 10 && !m_fresh; ++i) {
-      if (freenect_process_events_timeout(m_context, &timeout) < 0) break;
-    }
-    if (!m_fresh) {
+    // the Kinect sends 30 frames a second: none in a second is a device gone
+    constexpr double kWaitSeconds = 1.0;
+    if (!m_device->NextFrame(kWaitSeconds, frame)) {
       m_lastError = Describe() + ": the Kinect stopped delivering frames";
       return FrameStatus::kLost;
     }
-    cv::Mat(m_size, CV_16UC1, m_buffer.data()).copyTo(frame);
     m_lastError.clear();
     return FrameStatus::kOk;
   }
@@ -76,13 +51,60 @@ class FreenectSource : public FrameSource {
   double FrameRate() const override { return 30.0; }
 
  private:
-  static void OnDepth(freenect_device* device, void* depth, uint32_t) {
-    auto* self = static_cast<FreenectSource*>(freenect_get_user(device));
-    std::memcpy(self->m_buffer.data(), depth, self->m_buffer.size() * sizeof(uint16_t));
-    self->m_fresh = true;
+  std::unique_ptr<KinectDevice> m_device;
+  int m_index;
+  std::string m_spec;
+  bool m_open = false;
+};
+
+#ifdef PROXYGRASP_HAVE_FREENECT
+
+class LibfreenectDevice : public KinectDevice {
+ public:
+  ~LibfreenectDevice() override { Close(); }
+
+  std::string Open(int index) override {
+    Close();
+    if (freenect_init(&m_context, nullptr) < 0 || !m_context) {
+      m_context = nullptr;
+      return "libfreenect does not start (no USB access?)";
+    }
+    freenect_select_subdevices(m_context, FREENECT_DEVICE_CAMERA);
+    const int count = freenect_num_devices(m_context);
+    if (index >= count || freenect_open_device(m_context, &m_device, index) < 0) {
+      m_device = nullptr;
+      Close();
+      return "no Kinect " + std::to_string(index) + " (" + std::to_string(count < 0 ? 0 : count) +
+             " found; is it plugged in and powered?)";
+    }
+    const freenect_frame_mode mode =
+        freenect_find_depth_mode(FREENECT_RESOLUTION_MEDIUM, FREENECT_DEPTH_MM);
+    m_buffer.assign(static_cast<size_t>(mode.width) * mode.height, 0);
+    m_size = cv::Size(mode.width, mode.height);
+    freenect_set_user(m_device, this);
+    freenect_set_depth_callback(m_device, &LibfreenectDevice::OnDepth);
+    if (freenect_set_depth_mode(m_device, mode) < 0 || freenect_start_depth(m_device) < 0) {
+      Close();
+      return "cannot start the Kinect's depth stream";
+    }
+    return "";
   }
 
-  void Close() {
+  bool NextFrame(double seconds, cv::Mat& depthMm) override {
+    if (!m_device) return false;
+    // events until a frame arrives, a tenth of a second at a time
+    m_fresh = false;
+    const int tenths = static_cast<int>(seconds * 10.0 + 0.5);
+    for (int i = 0; i < tenths && !m_fresh; ++i) {
+      timeval timeout{0, 100000};
+      if (freenect_process_events_timeout(m_context, &timeout) < 0) break;
+    }
+    if (!m_fresh) return false;
+    cv::Mat(m_size, CV_16UC1, m_buffer.data()).copyTo(depthMm);
+    return true;
+  }
+
+  void Close() override {
     if (m_device) {
       freenect_stop_depth(m_device);
       freenect_close_device(m_device);
@@ -94,8 +116,13 @@ class FreenectSource : public FrameSource {
     }
   }
 
-  int m_index;
-  std::string m_spec;
+ private:
+  static void OnDepth(freenect_device* device, void* depth, uint32_t) {
+    auto* self = static_cast<LibfreenectDevice*>(freenect_get_user(device));
+    std::memcpy(self->m_buffer.data(), depth, self->m_buffer.size() * sizeof(uint16_t));
+    self->m_fresh = true;
+  }
+
   freenect_context* m_context = nullptr;
   freenect_device* m_device = nullptr;
   std::vector<uint16_t> m_buffer;
@@ -103,12 +130,25 @@ class FreenectSource : public FrameSource {
   bool m_fresh = false;
 };
 
+#endif
+
 }  // namespace
 
-Result<std::unique_ptr<FrameSource>> OpenFreenect(int index, const std::string& spec) {
-  auto source = std::make_unique<FreenectSource>(index, spec);
+Result<std::unique_ptr<FrameSource>> OpenKinect(std::unique_ptr<KinectDevice> device, int index,
+                                                const std::string& spec) {
+  auto source = std::make_unique<KinectSource>(std::move(device), index, spec);
   if (MaybeError s = source->Open()) return *s;
   return std::unique_ptr<FrameSource>(std::move(source));
+}
+
+#ifdef PROXYGRASP_HAVE_FREENECT
+
+bool HaveFreenect() {
+  return true;
+}
+
+Result<std::unique_ptr<FrameSource>> OpenFreenect(int index, const std::string& spec) {
+  return OpenKinect(std::make_unique<LibfreenectDevice>(), index, spec);
 }
 
 #else

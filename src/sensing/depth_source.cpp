@@ -1,6 +1,7 @@
 #include "proxygrasp/sensing/depth_source.h"
 
 #include "depth_devices.h"
+#include "image_list_source.h"
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -35,47 +36,15 @@ const std::array<uint16_t, 2048>& RawToMmTable() {
   return table;
 }
 
-// a depth PNG folder: 16-bit single-channel images in name order
-class DepthFolderSource : public FrameSource {
- public:
-  DepthFolderSource(std::string dir, std::vector<std::string> files)
-      : m_dir(std::move(dir)), m_files(std::move(files)) {}
-
-  FrameStatus Read(cv::Mat& frame) override {
-    if (m_next >= m_files.size()) {
-      m_lastError = Describe() + ": no more images";
-      return FrameStatus::kEnd;
-    }
-    const std::string& file = m_files[m_next++];
-    cv::Mat raw;
-    try {
-      raw = cv::imread(file, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
-      // IMREAD_GRAYSCALE would hide a colour image: read the channels as stored
-      if (!raw.empty()) raw = cv::imread(file, cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception&) {
-      raw.release();
-    }
-    if (raw.empty()) {
-      m_lastError = file + ": cannot read the image (corrupt or not an image)";
-      return FrameStatus::kError;
-    }
-    if (raw.type() != CV_16UC1) {
-      m_lastError = file + ": " + cv::typeToString(raw.type()) +
-                    " image where 16-bit single-channel depth (mm) is expected";
-      return FrameStatus::kError;
-    }
-    frame = raw;
-    m_lastError.clear();
-    return FrameStatus::kOk;
-  }
-
-  std::string Describe() const override { return "depth " + m_dir; }
-
- private:
-  std::string m_dir;
-  std::vector<std::string> m_files;
-  size_t m_next = 0;
-};
+// the depth folders' conversion: 16-bit single-channel images are depth in mm, as they are
+std::string DepthImage(const cv::Mat& image, cv::Mat& frame) {
+  if (image.empty()) return "cannot read the image (corrupt or not an image)";
+  if (image.type() != CV_16UC1)
+    return cv::typeToString(image.type()) +
+           " image where 16-bit single-channel depth (mm) is expected";
+  frame = image;
+  return "";
+}
 
 // libfreenect's recordings: INDEX.txt names the frames in playback order
 class FakenectSource : public FrameSource {
@@ -142,6 +111,10 @@ Result<std::unique_ptr<FrameSource>> OpenFakenect(const std::string& dir) {
     times.push_back(FakenectTime(line));
   }
   if (files.empty()) return MakeError({index}, "lists no depth frames (d-*.pgm)");
+  // the first frame says whether this is a recording at all: a broken one is an error here, a
+  // later one a corrupt frame (counted and skipped)
+  Result<cv::Mat> first = ReadFakenectDepth(files.front());
+  if (!first.ok()) return first.error();
   double rate = 0.0;
   if (files.size() > 1 && std::isfinite(times.front()) && std::isfinite(times.back()) &&
       times.back() > times.front())
@@ -165,17 +138,10 @@ Result<std::unique_ptr<FrameSource>> OpenDepthFolder(const std::string& dir) {
   // the first image says whether this is a depth folder at all: an 8-bit folder is an error here,
   // a later bad image is a corrupt frame (counted and skipped)
   cv::Mat first;
-  try {
-    first = cv::imread(files.front(), cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception&) {
-    first.release();
-  }
-  if (first.empty()) return MakeError({files.front()}, "cannot read the image");
-  if (first.type() != CV_16UC1)
-    return MakeError({files.front()}, cv::typeToString(first.type()) +
-                                          " image where 16-bit single-channel depth (mm) is "
-                                          "expected");
-  return std::unique_ptr<FrameSource>(std::make_unique<DepthFolderSource>(dir, files));
+  const std::string why = DepthImage(ReadImageUnchanged(files.front()), first);
+  if (!why.empty()) return MakeError({files.front()}, why);
+  return std::unique_ptr<FrameSource>(
+      std::make_unique<ImageListSource>("depth " + dir, std::move(files), DepthImage));
 }
 
 }  // namespace
@@ -306,6 +272,11 @@ MaybeError DepthRecordingWriter::Write(const cv::Mat& depthMm, double time) {
 bool IsDepthSourceSpec(const std::string& spec) {
   return StartsWith(spec, "depth:") || StartsWith(spec, "fakenect:") || StartsWith(spec, "oni:") ||
          spec == "openni" || StartsWith(spec, "openni:") || spec == "kinect" ||
+         StartsWith(spec, "kinect:");
+}
+
+bool IsLiveDepthSourceSpec(const std::string& spec) {
+  return spec == "openni" || StartsWith(spec, "openni:") || spec == "kinect" ||
          StartsWith(spec, "kinect:");
 }
 

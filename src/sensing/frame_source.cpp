@@ -1,5 +1,7 @@
 #include "proxygrasp/sensing/frame_source.h"
 
+#include "image_list_source.h"
+
 #include "proxygrasp/sensing/depth_source.h"
 
 #include <opencv2/core/utils/logger.hpp>
@@ -162,40 +164,10 @@ class VideoSource : public FrameSource {
   cv::VideoCapture m_capture;
 };
 
-class FolderSource : public FrameSource {
- public:
-  FolderSource(std::string dir, std::vector<std::string> files)
-      : m_dir(std::move(dir)), m_files(std::move(files)) {}
-
-  FrameStatus Read(cv::Mat& frame) override {
-    if (m_next >= m_files.size()) {
-      m_lastError = Describe() + ": no more images";
-      return FrameStatus::kEnd;
-    }
-    const std::string& file = m_files[m_next++];
-    cv::Mat raw;
-    try {
-      raw = cv::imread(file, cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception&) {
-      raw.release();
-    }
-    if (!ToGrey(raw, frame)) {
-      m_lastError = file + ": cannot read as an 8-bit image";
-      return FrameStatus::kError;
-    }
-    m_lastError.clear();
-    return FrameStatus::kOk;
-  }
-
-  std::string Describe() const override {
-    return (m_files.size() == 1 && m_files[0] == m_dir ? "image " : "folder ") + m_dir;
-  }
-
- private:
-  std::string m_dir;
-  std::vector<std::string> m_files;
-  size_t m_next = 0;
-};
+// the IR folders' conversion: whatever the file holds, as 8-bit grey
+std::string GreyImage(const cv::Mat& image, cv::Mat& frame) {
+  return ToGrey(image, frame) ? "" : "cannot read as an 8-bit image";
+}
 
 bool StartsWith(const std::string& s, const std::string& prefix) {
   return s.rfind(prefix, 0) == 0;
@@ -236,6 +208,35 @@ std::vector<std::string> NumberedImages(const std::string& dir) {
   std::vector<std::string> files;
   for (auto& f : found) files.push_back(std::move(f.second));
   return files;
+}
+
+ImageListSource::ImageListSource(std::string description, std::vector<std::string> files,
+                                 Convert convert)
+    : m_description(std::move(description)),
+      m_files(std::move(files)),
+      m_convert(std::move(convert)) {}
+
+FrameStatus ImageListSource::Read(cv::Mat& frame) {
+  if (m_next >= m_files.size()) {
+    m_lastError = Describe() + ": no more images";
+    return FrameStatus::kEnd;
+  }
+  const std::string& file = m_files[m_next++];
+  const std::string why = m_convert(ReadImageUnchanged(file), frame);
+  if (!why.empty()) {
+    m_lastError = file + ": " + why;
+    return FrameStatus::kError;
+  }
+  m_lastError.clear();
+  return FrameStatus::kOk;
+}
+
+cv::Mat ReadImageUnchanged(const std::string& path) {
+  try {
+    return cv::imread(path, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    return cv::Mat();
+  }
 }
 
 SyntheticSource::SyntheticSource(std::string name, const SyntheticCameraParams& camera,
@@ -322,12 +323,13 @@ Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec) {
     std::vector<std::string> files = NumberedImages(path);
     if (files.empty())
       return MakeError({path}, "the folder holds no image files (png, jpg, bmp, tif, pgm, ppm)");
-    return Ptr(std::make_unique<FolderSource>(path, std::move(files)));
+    return Ptr(std::make_unique<ImageListSource>("folder " + path, std::move(files), GreyImage));
   }
   if (wantFolder) return MakeError({path}, "is not a directory");
   // one image file: a folder of one image
   if (!wantVideo && IsImageFile(path))
-    return Ptr(std::make_unique<FolderSource>(path, std::vector<std::string>{path}));
+    return Ptr(std::make_unique<ImageListSource>("image " + path, std::vector<std::string>{path},
+                                                 GreyImage));
   auto video = std::make_unique<VideoSource>(path);
   if (MaybeError s = video->Open()) return *s;
   return Ptr(std::move(video));

@@ -534,5 +534,23 @@ TEST_F(AppTest, AMissingCameraShowsNoInputAndKeepsRunning) {
   EXPECT_GT(test::FindColor(app.picture(), view_colors::kError, 30).count, 50);
 }
 
+TEST_F(AppTest, DepthInputsMissingDeviceRetriedMissingRecordingRefused) {
+  // no Kinect 7 on any test machine: the app opens anyway and retries, as for a camera
+  App app;
+  ASSERT_FALSE(app.Open(Options(kTestData + "/box_goal.toml", "kinect:7")));
+  EXPECT_EQ(app.input(), InputKind::kCamera);
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(app.Tick());
+  EXPECT_TRUE(app.noInput());
+  EXPECT_NE(app.runError().find("kinect:7"), std::string::npos) << app.runError();
+  EXPECT_EQ(app.simulation().Frame(), 0);
+  // a recording that is not there is an error naming it
+  App replay;
+  const MaybeError missing = replay.Open(Options(kTestData + "/box_goal.toml", "depth:/no/dir"));
+  ASSERT_TRUE(missing);
+  EXPECT_NE(missing->Format().find("--input depth:/no/dir: /no/dir: no such folder"),
+            std::string::npos)
+      << missing->Format();
+}
+
 }  // namespace
 }  // namespace pg

@@ -1,8 +1,10 @@
+#include "real_data.h"
 #include "run_command.h"
 #include "test_paths.h"
 #include "udp_port.h"
 
 #include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/depth_source.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 #include "proxygrasp/tuio/decoder.h"
 #include "proxygrasp/tuio/touchlib_xml.h"
@@ -442,6 +444,96 @@ TEST(SenseCommand, SetChangesParameters) {
   const auto bad = RunProxygrasp("sense synthetic:fingers --frames 1 --set sensing.treshold=5");
   EXPECT_EQ(bad.exitCode, 2);
   EXPECT_THAT(bad.output, HasSubstr("threshold"));
+}
+
+// depth inputs (issue 43): what cannot be read at the start is an input error naming what and
+// where (exit 2, no frame printed, no crash); a bad frame later is counted and skipped (exit 1)
+TEST(SenseCommand, BadDepthInputsExitTwoNamingWhatAndWhere) {
+  namespace fs = std::filesystem;
+  // an 8-bit PNG where 16-bit depth is expected
+  const std::string eight = test::FreshDir("sense_depth", "eight");
+  cv::imwrite(eight + "/d_0.png", cv::Mat(48, 64, CV_8UC1, cv::Scalar(100)));
+  // a fakenect recording whose first PGM is truncated, and one whose INDEX.txt names a frame
+  // that is not there (its 3rd line)
+  const std::string truncated = test::FreshDir("sense_depth", "truncated");
+  const std::string unlisted = test::FreshDir("sense_depth", "unlisted");
+  std::string firstFrame;
+  for (const std::string& dir : {truncated, unlisted}) {
+    Result<DepthRecordingWriter> w =
+        DepthRecordingWriter::Create(dir, DepthRecordingWriter::Format::kFakenect);
+    ASSERT_TRUE(w) << w.error().Format();
+    ASSERT_FALSE(w.value().Write(cv::Mat(48, 64, CV_16UC1, cv::Scalar(1000)), 0.0));
+    ASSERT_FALSE(w.value().Write(cv::Mat(48, 64, CV_16UC1, cv::Scalar(1000)), 0.1));
+    std::ifstream index(dir + "/INDEX.txt");
+    std::getline(index, firstFrame);
+  }
+  fs::resize_file(truncated + "/" + firstFrame, 100);
+  std::ofstream(unlisted + "/INDEX.txt", std::ios::app) << "d-1000000.200000-00000002.pgm\n";
+  struct Case {
+    std::string input, message;
+  };
+  const std::vector<Case> cases = {
+      {"kinect:7", HaveFreenect() ? "kinect:7: no Kinect 7 (0 found; is it plugged in"
+                                  : "kinect:7: not built with libfreenect"},
+      {"openni:nosuch://device",
+       HaveOpenNi2() ? "openni:nosuch://device: no OpenNI2 device" : "not built with OpenNI2"},
+      {"oni:/no/such.oni", "/no/such.oni: no such ONI file"},
+      {"depth:/no/such/folder", "/no/such/folder: no such folder"},
+      {"fakenect:/no/such/folder", "/no/such/folder: no such folder"},
+      {"depth:" + eight, eight + "/d_0.png: CV_8UC1 image where 16-bit single-channel depth (mm)"},
+      {"fakenect:" + truncated, truncated + "/" + firstFrame + ": truncated: 85 of 6144 bytes"},
+      {"fakenect:" + unlisted,
+       unlisted + "/INDEX.txt:3:1: names d-1000000.200000-00000002.pgm, which is not in the "
+                  "folder"},
+  };
+  // 100 bytes of a PGM whose header "P5 64 48 65535\n" (its newline the one white-space byte
+  // before the pixels) is 15 bytes: 85 of its 64 x 48 x 2 = 6144 bytes of pixels are there
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.input);
+    const auto r = RunProxygrasp("sense '" + c.input + "' --frames 3");
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_THAT(r.output, HasSubstr("proxygrasp sense: " + c.message));
+    EXPECT_THAT(r.output, Not(HasSubstr("{\"frame\"")));
+  }
+}
+
+TEST(SenseCommand, AnOniRecordingWithoutADepthStreamExitsTwo) {
+  const std::string real = test::RealDataDir("depth");
+  if (real.empty())
+    GTEST_SKIP() << "../shared/real/depth is absent (a clone of the project alone): no ONI "
+                    "recording to make one without a depth stream from; set PROXYGRASP_REAL_DATA";
+  if (!HaveOpenNi2()) GTEST_SKIP() << "not built with OpenNI2: oni:FILE cannot be read";
+  // test.oni (OpenNI 1) declares its one stream in a node-added record: the name "Depth1", then
+  // the node's type, 2 (depth); made 3 (image), the recording holds no depth stream
+  std::ifstream in(real + "/depth/test.oni", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string name("Depth1\0", 7);
+  const size_t at = bytes.find(name);
+  ASSERT_NE(at, std::string::npos) << "test.oni has changed: no Depth1 node";
+  ASSERT_EQ(bytes.substr(at + 7, 4), std::string("\x02\0\0\0", 4)) << "not a depth node";
+  bytes[at + 7] = '\x03';
+  const std::string file = test::FreshDir("sense_depth", "oni") + "/image_only.oni";
+  std::ofstream(file, std::ios::binary) << bytes;
+  const auto r = RunProxygrasp("sense oni:" + file + " --frames 3");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("proxygrasp sense: " + file +
+                                  ": the ONI file has no depth "
+                                  "stream"));
+}
+
+TEST(SenseCommand, ACorruptDepthFrameIsNamedCountedAndSkipped) {
+  const std::string dir = test::FreshDir("sense_depth", "corrupt");
+  for (int k = 0; k < 4; ++k)
+    cv::imwrite(dir + "/d_" + std::to_string(k) + ".png",
+                cv::Mat(48, 64, CV_16UC1, cv::Scalar(1000)));
+  std::ofstream(dir + "/d_2.png", std::ios::trunc) << "not a png";
+  const auto r = RunProxygrasp("sense depth:" + dir);
+  // the run goes on past it, and ends saying it skipped frames (the exit of a run with bad frames)
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(dir + "/d_2.png: cannot read the image (corrupt or not an "
+                                        "image)"));
+  EXPECT_THAT(r.output, HasSubstr("bad frame(s) skipped"));
+  EXPECT_EQ(Count(r.output, "d_2.png"), 1) << r.output;
 }
 
 }  // namespace

@@ -2,12 +2,15 @@
 
 #include "proxygrasp/run/simulation.h"
 #include "proxygrasp/run/trace.h"
+#include "proxygrasp/sensing/depth_source.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <memory>
 
 #include "run/test_levels.h"
 
@@ -135,6 +138,149 @@ TEST(FrameInput, AMissingCameraIsAnErrorOrKeptToBeRetried) {
   const MaybeError again = input.Reconnect();
   ASSERT_TRUE(again);
   EXPECT_THAT(again->Format(), HasSubstr("97"));
+}
+
+// a depth folder of `n` frames at the level's camera size, frame k a flat 1000 + k mm
+std::string DepthFrames(const std::string& name, int n) {
+  const std::string dir = ::testing::TempDir() + "/" + name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (int k = 0; k < n; ++k)
+    cv::imwrite(dir + "/f_" + std::to_string(k) + ".png",
+                cv::Mat(480, 640, CV_16UC1, cv::Scalar(1000 + k)));
+  return dir;
+}
+
+// a Kinect on a cable the test pulls, playing a depth folder through the real folder reader:
+// unplugged, it neither opens nor delivers. `delivered` is the depth of the last frame it gave.
+struct Plug {
+  bool in = true;
+  int delivered = -1;
+};
+
+class FolderKinect : public KinectDevice {
+ public:
+  FolderKinect(std::unique_ptr<FrameSource> folder, std::shared_ptr<Plug> plug)
+      : m_folder(std::move(folder)), m_plug(std::move(plug)) {}
+  std::string Open(int index) override {
+    if (!m_plug->in) return "no Kinect " + std::to_string(index) + " (0 found)";
+    m_open = true;
+    return "";
+  }
+  bool NextFrame(double, cv::Mat& depthMm) override {
+    if (!m_open || !m_plug->in || m_folder->Read(depthMm) != FrameStatus::kOk) return false;
+    m_plug->delivered = depthMm.at<uint16_t>(0, 0);
+    return true;
+  }
+  void Close() override { m_open = false; }
+
+ private:
+  std::unique_ptr<FrameSource> m_folder;
+  std::shared_ptr<Plug> m_plug;
+  bool m_open = false;
+};
+
+TEST(FrameInput, ADepthDeviceLostMidRunResumesWithItsNextFrameWhenItReturns) {
+  const std::string dir = DepthFrames("frame_input_unplug", 5);
+  Result<std::unique_ptr<FrameSource>> folder = OpenFrameSource("depth:" + dir);
+  ASSERT_TRUE(folder) << folder.error().Format();
+  auto plug = std::make_shared<Plug>();
+  // the Kinect source (OpenKinect) on the stand-in device; Reconnect opens the spec anew when the
+  // source cannot reopen: kinect:9, no more there than the real one while unplugged
+  Result<std::unique_ptr<FrameSource>> kinect =
+      OpenKinect(std::make_unique<FolderKinect>(std::move(folder.value()), plug), 9, "kinect:9");
+  ASSERT_TRUE(kinect) << kinect.error().Format();
+  FrameInput input = FrameInput::FromSource(std::move(kinect.value()), "kinect:9");
+  const Level level = Push();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  // what the pipeline makes of a depth frame is not this test's business: only that it was read
+  auto stepped = [&] {
+    Result<FrameStatus> r = input.Step(sim);
+    return r.ok() ? r.value() : FrameStatus::kOk;
+  };
+  EXPECT_EQ(stepped(), FrameStatus::kOk);
+  EXPECT_EQ(stepped(), FrameStatus::kOk);
+  EXPECT_EQ(plug->delivered, 1001);
+  const int64_t skipped = input.skippedFrames();
+
+  plug->in = false;
+  for (int retry = 0; retry < 3; ++retry) {
+    EXPECT_EQ(stepped(), FrameStatus::kLost);
+    EXPECT_THAT(input.LastError(), HasSubstr("Kinect 9: "));
+    const MaybeError again = input.Reconnect();
+    ASSERT_TRUE(again);
+    EXPECT_THAT(again->Format(), HasSubstr("kinect:9"));
+  }
+  EXPECT_EQ(plug->delivered, 1001) << "nothing is read while the device is away";
+  EXPECT_EQ(input.skippedFrames(), skipped) << "a lost device is no bad frame";
+
+  plug->in = true;
+  EXPECT_FALSE(input.Reconnect());
+  EXPECT_EQ(input.LastError(), "");
+  EXPECT_EQ(stepped(), FrameStatus::kOk);
+  EXPECT_EQ(plug->delivered, 1002) << "the run resumes with the device's next frame";
+  fs::remove_all(dir);
+}
+
+TEST(FrameInput, CorruptDepthFramesAreCountedAndSkipped) {
+  const Level level = Push();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  // a depth folder: an unreadable PNG and a frame of the wrong size between good ones
+  const std::string dir = DepthFrames("frame_input_corrupt", 4);
+  std::ofstream(dir + "/f_1.png", std::ios::trunc) << "not a png";
+  cv::imwrite(dir + "/f_2.png", cv::Mat(240, 320, CV_16UC1, cv::Scalar(900)));
+  Result<FrameInput> opened = FrameInput::Open("depth:" + dir);
+  ASSERT_TRUE(opened) << opened.error().Format();
+  FrameInput& input = opened.value();
+  const int64_t afterFirst = [&] {
+    (void)input.Step(sim);  // f_0: the pipeline's business
+    return input.skippedFrames();
+  }();
+  Result<FrameStatus> corrupt = input.Step(sim);
+  ASSERT_TRUE(corrupt.ok());
+  EXPECT_EQ(corrupt.value(), FrameStatus::kError);
+  EXPECT_THAT(input.LastError(), HasSubstr("f_1.png: cannot read the image"));
+  EXPECT_EQ(input.skippedFrames(), afterFirst + 1);
+  Result<FrameStatus> small = input.Step(sim);
+  ASSERT_TRUE(small.ok());
+  EXPECT_EQ(small.value(), FrameStatus::kError);
+  EXPECT_THAT(input.LastError(), HasSubstr("frame 2: frame is 320x240, expected 640x480"));
+  EXPECT_EQ(input.skippedFrames(), afterFirst + 2);
+  (void)input.Step(sim);  // f_3, read
+  Result<FrameStatus> end = input.Step(sim);
+  ASSERT_TRUE(end.ok());
+  EXPECT_EQ(end.value(), FrameStatus::kEnd);
+
+  // a fakenect recording whose second frame is truncated
+  const std::string rec = ::testing::TempDir() + "/frame_input_fakenect";
+  fs::remove_all(rec);
+  Result<DepthRecordingWriter> w =
+      DepthRecordingWriter::Create(rec, DepthRecordingWriter::Format::kFakenect);
+  ASSERT_TRUE(w) << w.error().Format();
+  for (int k = 0; k < 3; ++k)
+    ASSERT_FALSE(w.value().Write(cv::Mat(480, 640, CV_16UC1, cv::Scalar(1000)), k / 30.0));
+  std::string second;
+  {
+    std::ifstream index(rec + "/INDEX.txt");
+    std::getline(index, second);
+    std::getline(index, second);
+  }
+  fs::resize_file(rec + "/" + second, 5000);
+  Result<FrameInput> kinect = FrameInput::Open("fakenect:" + rec);
+  ASSERT_TRUE(kinect) << kinect.error().Format();
+  (void)kinect.value().Step(sim);
+  const int64_t before = kinect.value().skippedFrames();
+  Result<FrameStatus> truncated = kinect.value().Step(sim);
+  ASSERT_TRUE(truncated.ok());
+  EXPECT_EQ(truncated.value(), FrameStatus::kError);
+  EXPECT_THAT(kinect.value().LastError(), HasSubstr(second + ": truncated"));
+  EXPECT_EQ(kinect.value().skippedFrames(), before + 1);
+  (void)kinect.value().Step(sim);
+  EXPECT_EQ(kinect.value().Step(sim).value(), FrameStatus::kEnd);
+  fs::remove_all(dir);
+  fs::remove_all(rec);
 }
 
 }  // namespace

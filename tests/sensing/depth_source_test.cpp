@@ -150,6 +150,12 @@ TEST(Fakenect, BadRecordingsAreErrorsNamingWhatAndWhere) {
   EXPECT_EQ(src.value()->Read(frame), FrameStatus::kError);
   EXPECT_THAT(src.value()->LastError(), HasSubstr(names[1] + ": truncated"));
 
+  // a recording whose first frame is broken is no recording: refused at open, naming the frame
+  fs::resize_file(dir + "/" + names[0], 10);
+  Result<std::unique_ptr<FrameSource>> broken = OpenFrameSource("fakenect:" + dir);
+  ASSERT_FALSE(broken);
+  EXPECT_THAT(broken.error().Format(), HasSubstr(names[0] + ": "));
+
   // INDEX.txt naming a file that is not there: the line and the name
   std::ofstream(dir + "/INDEX.txt", std::ios::app) << "r-1.0-1.ppm\nd-1000000.2-9.pgm\n";
   Result<std::unique_ptr<FrameSource>> missing = OpenFrameSource("fakenect:" + dir);

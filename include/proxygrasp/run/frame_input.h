@@ -90,6 +90,10 @@ class FrameInput {
   std::string Describe() const;
   /// Why the last Step did not step the simulation, or "".
   const std::string& LastError() const { return m_lastError; }
+  /// Frames skipped since this input was made: a source's frame that could not be read (a corrupt
+  /// image or PGM), one of the wrong size, or one the pipeline rejected (kError or an Error from
+  /// Step). A lost source is not counted: it delivers no frames.
+  int64_t skippedFrames() const { return m_skippedFrames; }
 
  private:
   explicit FrameInput(Kind kind) : m_kind(kind) {}
@@ -103,7 +107,8 @@ class FrameInput {
   ContourFrame m_contours;
   cv::Mat m_frame;
   bool m_peeked = false;     // m_frame holds a frame read ahead by Peek
-  int64_t m_framesRead = 0;  // frames the source delivered since it was opened
+  int64_t m_framesRead = 0;  // frames read, good or not, since the source was opened
+  int64_t m_skippedFrames = 0;
   std::string m_lastError;
 };
 

@@ -60,11 +60,33 @@ class DepthRecordingWriter {
 /// kinect[:N].
 bool IsDepthSourceSpec(const std::string& spec);
 
+/// True when `spec` names a live depth device (kinect[:N], openni[:URI]), which may be lost and
+/// come back, rather than a recording.
+bool IsLiveDepthSourceSpec(const std::string& spec);
+
 /// Opens the depth source a spec names (IsDepthSourceSpec). A missing folder, file or device, a
 /// folder whose first image is not 16-bit, an INDEX.txt naming a file that is not there, an ONI
 /// file without a depth stream, or a build without the library a device needs, is an Error naming
 /// what and where.
 Result<std::unique_ptr<FrameSource>> OpenDepthSource(const std::string& spec);
+
+/// The few things a live Kinect source asks of its device: libfreenect's (OpenDepthSource's
+/// kinect[:N]), or a stand-in that tests unplug and plug back in.
+class KinectDevice {
+ public:
+  virtual ~KinectDevice() = default;
+  /// Opens Kinect number `index` and starts its depth stream (mm); "" when it did, else why not.
+  virtual std::string Open(int index) = 0;
+  /// The next depth frame (CV_16UC1, mm), waiting up to `seconds`; false when none came.
+  virtual bool NextFrame(double seconds, cv::Mat& depthMm) = 0;
+  /// Stops the stream and closes the device (nothing when it is not open).
+  virtual void Close() = 0;
+};
+
+/// A live Kinect source on a device layer: Read is kLost when no frame comes within a second,
+/// Reopen opens the device anew. An Error (naming `spec`) when the device does not open.
+Result<std::unique_ptr<FrameSource>> OpenKinect(std::unique_ptr<KinectDevice> device, int index,
+                                                const std::string& spec);
 
 /// Whether this build reads OpenNI2 devices and ONI files, and live Kinects through libfreenect.
 bool HaveOpenNi2();
