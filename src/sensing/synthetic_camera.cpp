@@ -1,5 +1,7 @@
 #include "proxygrasp/sensing/synthetic_camera.h"
 
+#include "prefault.h"
+
 #include "proxygrasp/core/params.h"
 #include "proxygrasp/core/units.h"
 
@@ -408,6 +410,8 @@ Contour LocalOutline(const ContactShape& s) {
 // A new frame's memory is usually fresh from the kernel: touching it faults once per 4 KB page, and
 // on a virtual machine those traps took a third of a two-hand frame. One call maps them all. Where
 // the call is missing or fails the pages fault as before; the contents never change.
+}  // namespace
+
 void PrefaultPages(const cv::Mat& image) {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
   static const uintptr_t kPage = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
@@ -420,6 +424,8 @@ void PrefaultPages(const cv::Mat& image) {
   (void)image;
 #endif
 }
+
+namespace {
 
 // one row of Compose's inputs and output
 struct ComposeRow {

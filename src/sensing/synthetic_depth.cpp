@@ -5,10 +5,11 @@
 // from the image centre), what the IR projector beside the camera cannot light reads 0, pixels at
 // depth edges may read 0, and the depth gets per-pixel noise and 11-bit disparity steps.
 // docs/sensing.md, "The synthetic depth camera".
-#include "proxygrasp/sensing/depth_source.h"
-#include "proxygrasp/sensing/synthetic_camera.h"
+#include "prefault.h"
 
 #include "proxygrasp/core/units.h"
+#include "proxygrasp/sensing/depth_source.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
 
 #include <algorithm>
 #include <array>
@@ -94,8 +95,8 @@ uint16_t Report(double mm, bool steps) {
 
 // the height field: bilinear reads, and its maximum over rectangles (through kTile tiles)
 struct HeightField {
-  cv::Mat top;                 // CV_32F, cm above the table, 0 = the table
-  cv::Mat tileMax;             // CV_32F, the maximum of each kTile x kTile tile
+  cv::Mat top;      // CV_32F, cm above the table, 0 = the table
+  cv::Mat tileMax;  // CV_32F, the maximum of each kTile x kTile tile
   int w = 0, h = 0;
 
   // bilinear at pixel coordinates (pixel centres at integers); 0 off the image
@@ -157,7 +158,8 @@ double IrHoverDimming(double height) {
   return height > 0.0 ? std::exp(-height / kIrHoverFade) : 1.0;
 }
 
-double BodyTopHeight(const ContactShape& s, const SyntheticCameraParams& p, const Vec2& tablePoint) {
+double BodyTopHeight(const ContactShape& s, const SyntheticCameraParams& p,
+                     const Vec2& tablePoint) {
   const Vec2 local = s.pose.Inverse(tablePoint);
   const double base = std::max(s.height, 0.0);
   switch (s.kind) {
@@ -175,8 +177,8 @@ double BodyTopHeight(const ContactShape& s, const SyntheticCameraParams& p, cons
       double top = -1.0;
       const double d = HandDistance(s, tablePoint);
       if (d < 0.0) {
-        const double f =
-            SmoothStep(std::clamp((unscaled.y() - kPalmEnd) / (kFingersStart - kPalmEnd), 0.0, 1.0));
+        const double f = SmoothStep(
+            std::clamp((unscaled.y() - kPalmEnd) / (kFingersStart - kPalmEnd), 0.0, 1.0));
         const double thickness = scale * Lerp(p.palmThickness, p.fingerThickness, f);
         top = base + RoundedTop(-d, thickness);
       }
@@ -226,16 +228,19 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
   };
 
   // the bodies' tops on the pixel grid of the table (the view from straight above)
+  DepthScratch& scratch = m_depthScratch;
   HeightField field;
   field.w = w;
   field.h = h;
-  field.top = cv::Mat::zeros(h, w, CV_32F);
+  scratch.top.create(h, w, CV_32F);
+  scratch.top.setTo(0.0f);
+  field.top = scratch.top;
   double tallest = 0.0;
   for (const ContactShape& s : shapes) {
     auto [lo, hi] = ShapeBounds(s);
     if (s.kind == ShapeKind::kCircle) {
-      GrowBounds(s.pose, Vec2(-s.radius, -m_params.fingerLength - s.radius), Vec2(s.radius, s.radius),
-                 lo, hi);
+      GrowBounds(s.pose, Vec2(-s.radius, -m_params.fingerLength - s.radius),
+                 Vec2(s.radius, s.radius), lo, hi);
     } else if (s.kind == ShapeKind::kHandFive || s.kind == ShapeKind::kHandFlat) {
       const double scale = std::max(s.scale, 1e-6);
       GrowBounds(s.pose, scale * Vec2(-kArmRadius, kWristY - kArmLength - kArmRadius),
@@ -244,7 +249,8 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
     const int u0 = std::max(0, static_cast<int>(std::floor(lo.x() / sx - 0.5)));
     const int u1 = std::min(w - 1, static_cast<int>(std::ceil(hi.x() / sx - 0.5)));
     const int v0 = std::max(0, static_cast<int>(std::floor((m_table.height - hi.y()) / sy - 0.5)));
-    const int v1 = std::min(h - 1, static_cast<int>(std::ceil((m_table.height - lo.y()) / sy - 0.5)));
+    const int v1 =
+        std::min(h - 1, static_cast<int>(std::ceil((m_table.height - lo.y()) / sy - 0.5)));
     for (int v = v0; v <= v1; ++v) {
       float* row = field.top.ptr<float>(v);
       for (int u = u0; u <= u1; ++u) {
@@ -258,10 +264,13 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
   }
   // never at or above the camera
   tallest = std::min(tallest, 0.95 * z0);
-  field.top = cv::min(field.top, tallest);
+  const bool clear = tallest <= 0.0;  // nothing above the table
+  if (!clear) cv::min(field.top, tallest, field.top);
   const int tilesX = (w + kTile - 1) / kTile, tilesY = (h + kTile - 1) / kTile;
-  field.tileMax = cv::Mat::zeros(tilesY, tilesX, CV_32F);
-  for (int v = 0; v < h; ++v) {
+  scratch.tileMax.create(tilesY, tilesX, CV_32F);
+  scratch.tileMax.setTo(0.0f);
+  field.tileMax = scratch.tileMax;
+  for (int v = 0; v < h && !clear; ++v) {
     const float* row = field.top.ptr<float>(v);
     float* tiles = field.tileMax.ptr<float>(v / kTile);
     for (int u = 0; u < w; ++u) tiles[u / kTile] = std::max(tiles[u / kTile], row[u]);
@@ -273,9 +282,13 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
   const double baselinePx = m_params.projectorBaseline / sx;
   const Vec2 projector = c + Vec2(baselinePx, 0.0);  // px, at height z0
   const bool shadows = m_params.projectorBaseline != 0.0;
-  cv::Mat seen = cv::Mat::zeros(h, w, CV_32F);        // the visible surface's height, cm
-  cv::Mat lit(h, w, CV_8UC1, cv::Scalar(1));          // 0 in the projector's shadow
-  if (tallest > 0.0) {
+  cv::Mat& seen = scratch.seen;  // the visible surface's height, cm
+  cv::Mat& lit = scratch.lit;    // 0 in the projector's shadow
+  seen.create(h, w, CV_32F);
+  lit.create(h, w, CV_8UC1);
+  if (!clear) {
+    seen.setTo(0.0f);
+    lit.setTo(1);
     for (int tv = 0; tv < tilesY; ++tv) {
       for (int tu = 0; tu < tilesX; ++tu) {
         const int ua = tu * kTile, ub = std::min(w, ua + kTile) - 1;
@@ -368,12 +381,14 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
   }
 
   // depth along the optical axis, mm, before noise
-  cv::Mat depth;
-  seen.convertTo(depth, CV_32F, -10.0, 10.0 * z0);
+  cv::Mat& depth = scratch.depth;
+  if (!clear) seen.convertTo(depth, CV_32F, -10.0, 10.0 * z0);
 
   // holes at depth edges: a pixel whose neighbour's depth differs by more than edge_jump
-  cv::Mat hole(h, w, CV_8UC1, cv::Scalar(0));
-  if (m_params.edgeHoles > 0.0 && tallest > 0.0) {
+  cv::Mat& hole = scratch.hole;
+  hole.create(h, w, CV_8UC1);
+  if (!clear) hole.setTo(0);
+  if (m_params.edgeHoles > 0.0 && !clear) {
     const float jump = static_cast<float>(m_params.edgeJump);
     for (int v = 0; v < h; ++v) {
       const float* row = depth.ptr<float>(v);
@@ -383,8 +398,8 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
       for (int u = 0; u < w; ++u) {
         const float d = row[u];
         const float step = std::max({std::abs(d - row[std::max(u - 1, 0)]),
-                                     std::abs(d - row[std::min(u + 1, w - 1)]),
-                                     std::abs(d - up[u]), std::abs(d - down[u])});
+                                     std::abs(d - row[std::min(u + 1, w - 1)]), std::abs(d - up[u]),
+                                     std::abs(d - down[u])});
         if (step > jump && m_rng.Uniform() < m_params.edgeHoles) out[u] = 1;
       }
     }
@@ -393,34 +408,44 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
   // noise in disparity (so its depth deviation grows with the distance squared), then the
   // 11-bit steps, then mm as the depth sources report them
   cv::Mat out(h, w, CV_16UC1);
+  PrefaultPages(out);
   const double sigma = m_params.disparityNoise;
   const bool steps = m_params.disparitySteps;
   const double tableMm = 10.0 * z0;
   const double tableDisparity = KinectDisparity(tableMm);
   const std::array<uint16_t, 2048>& rawToMm = RawToMm();
+  const uint16_t tableReport = Report(tableMm, steps);
   for (int v = 0; v < h; ++v) {
-    const float* row = depth.ptr<float>(v);
-    const float* height = seen.ptr<float>(v);
-    const uint8_t* holes = hole.ptr<uint8_t>(v);
-    const uint8_t* light = lit.ptr<uint8_t>(v);
     uint16_t* o = out.ptr<uint16_t>(v);
     const float* noise = sigma > 0.0 && !m_noiseBank.empty()
                              ? m_noiseBank.data() + m_rng.NextU64() % (m_noiseBank.size() - w)
                              : nullptr;
+    if (clear && !noise) {
+      std::fill(o, o + w, tableReport);
+      continue;
+    }
+    const float* row = clear ? nullptr : depth.ptr<float>(v);
+    const float* height = clear ? nullptr : seen.ptr<float>(v);
+    const uint8_t* holes = clear ? nullptr : hole.ptr<uint8_t>(v);
+    const uint8_t* light = clear ? nullptr : lit.ptr<uint8_t>(v);
     for (int u = 0; u < w; ++u) {
-      if (holes[u] || !light[u]) {
+      const bool table = clear || height[u] == 0.0f;
+      if (!clear && (holes[u] || !light[u])) {
         o[u] = 0;
         continue;
       }
       if (!noise) {
-        o[u] = Report(row[u], steps);
+        o[u] = table ? tableReport : Report(row[u], steps);
         continue;
       }
       const double disparity =
-          (height[u] == 0.0f ? tableDisparity : KinectDisparity(row[u])) + sigma * noise[u];
+          (table ? tableDisparity : KinectDisparity(row[u])) + sigma * noise[u];
       if (steps) {
-        const long raw = std::lround(disparity);
-        o[u] = raw >= 0 && raw < kKinectNoReading ? rawToMm[raw] : 0;
+        // floor(x + 0.5): lround's rounding for the positive values that matter, without the call
+        const double rounded = std::floor(disparity + 0.5);
+        const int raw = rounded >= 0.0 && rounded < kKinectNoReading ? static_cast<int>(rounded)
+                                                                     : kKinectNoReading;
+        o[u] = raw < kKinectNoReading ? rawToMm[raw] : 0;
       } else {
         const double mm = kFitScale * std::tan(disparity / kFitSpan + kFitOffset);
         o[u] = mm > 0.0 && mm < 65535.0 ? static_cast<uint16_t>(std::lround(mm)) : 0;

@@ -1,7 +1,6 @@
+#include "proxygrasp/core/units.h"
 #include "proxygrasp/sensing/depth_source.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
-
-#include "proxygrasp/core/units.h"
 
 #include <gtest/gtest.h>
 
@@ -316,8 +315,8 @@ TEST(SyntheticDepth, HolesLieOnDepthEdges) {
     for (int u = 0; u < reference.cols; ++u) {
       const int d = reference.at<uint16_t>(v, u);
       int step = 0;
-      for (const cv::Point n : {cv::Point(u - 1, v), cv::Point(u + 1, v), cv::Point(u, v - 1),
-                                cv::Point(u, v + 1)}) {
+      for (const cv::Point n :
+           {cv::Point(u - 1, v), cv::Point(u + 1, v), cv::Point(u, v - 1), cv::Point(u, v + 1)}) {
         const cv::Point m(std::clamp(n.x, 0, reference.cols - 1),
                           std::clamp(n.y, 0, reference.rows - 1));
         step = std::max(step, std::abs(d - reference.at<uint16_t>(m)));
@@ -425,8 +424,10 @@ TEST(SyntheticDepth, FramesWrittenOutReadBackThroughTheDepthSources) {
       for (int v = 0; v < back.rows; ++v)
         for (int u = 0; u < back.cols; ++u) {
           const double a = frames[f].at<uint16_t>(v, u), b = back.at<uint16_t>(v, u);
-          if ((a == 0) != (b == 0)) ++worse;
-          else if (a > 0 && std::abs(a - b) > KinectStepMm(a)) ++worse;
+          if ((a == 0) != (b == 0))
+            ++worse;
+          else if (a > 0 && std::abs(a - b) > KinectStepMm(a))
+            ++worse;
         }
       EXPECT_EQ(worse, 0) << format << " frame " << f;
       if (std::string(format) == "depth") {

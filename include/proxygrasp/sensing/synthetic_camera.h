@@ -169,6 +169,19 @@ class SyntheticCamera {
     }
   };
   Scratch m_scratch;
+
+  // RenderDepth's working images, kept between frames (fresh ones a frame were page faults); a
+  // copy of the camera starts with its own
+  struct DepthScratch {
+    cv::Mat top, tileMax, seen, lit, hole, depth;
+    DepthScratch() = default;
+    DepthScratch(const DepthScratch&) {}
+    DepthScratch& operator=(const DepthScratch&) {
+      for (cv::Mat* m : {&top, &tileMax, &seen, &lit, &hole, &depth}) m->release();
+      return *this;
+    }
+  };
+  DepthScratch m_depthScratch;
 };
 
 /// The camera model a SyntheticCamera with these params uses (the depth camera's maps the image
