@@ -725,8 +725,11 @@ void App::Impl::StartRecording() {
   }
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (MaybeError s =
-          recorder.Open(dir, dir + "/input.mkv", sim.CameraSize(), params.physics.frameRate)) {
+  // depth frames (the depth camera's, or a depth source's) as a depth:DIR recording beside them
+  const bool depth = params.camera.kind == CameraKind::kDepth ||
+                     (!sim.cameraImage().empty() && sim.cameraImage().type() == CV_16UC1);
+  const std::string camera = depth ? "depth:" + dir + "/depth" : dir + "/input.mkv";
+  if (MaybeError s = recorder.Open(dir, camera, sim.CameraSize(), params.physics.frameRate)) {
     runError = s->Format();
     return;
   }

@@ -137,6 +137,9 @@ void DescribeKeyframe(Keyframe& k, ParamVisitor& v) {
            "position of the contact's centre on the table (required)");
   v.Angle("angle", k.pose.angle, -36000, 36000, "deg",
           "the contact's angle, counter-clockwise; not wrapped");
+  v.Real("height", k.height, 0, 100, "cm",
+         "from the table to the contact's underside (0 = touching); the depth camera sees it, "
+         "the IR camera dims the contact");
 }
 
 void DescribeVariant(Variant& variant, ParamVisitor& v) {

@@ -3,15 +3,48 @@
 #include "proxygrasp/core/text.h"
 #include "proxygrasp/core/units.h"
 #include "proxygrasp/run/simulation.h"
+#include "proxygrasp/sensing/depth_source.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
 namespace pg {
 
+namespace {
+
+// the folder of a depth recording spec (depth:DIR, fakenect:DIR) and its format; false for others
+bool DepthRecordingSpec(const std::string& spec, std::string& dir,
+                        DepthRecordingWriter::Format& format) {
+  for (const auto& [prefix, f] :
+       {std::pair{std::string("depth:"), DepthRecordingWriter::Format::kDepthPng},
+        std::pair{std::string("fakenect:"), DepthRecordingWriter::Format::kFakenect}}) {
+    if (spec.rfind(prefix, 0) == 0) {
+      dir = spec.substr(prefix.size());
+      format = f;
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 std::string RecordingTraceDir(const std::string& recordingPath) {
+  std::string dir;
+  DepthRecordingWriter::Format format;
+  if (DepthRecordingSpec(recordingPath, dir, format)) {
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    return dir + "_trace";
+  }
   std::filesystem::path p(recordingPath);
   return (p.parent_path() / (p.stem().string() + "_trace")).string();
+}
+
+TraceWriter::TraceWriter() = default;
+
+TraceWriter::~TraceWriter() {
+  Close();
 }
 
 std::string ObjectRows(const Simulation& sim) {
@@ -43,7 +76,15 @@ MaybeError TraceWriter::Open(const std::string& dir, const std::string& videoPat
                              double frameRate) {
   Close();
   // the video first: a folder that cannot hold it gets no trace folder made beside it either
-  if (!videoPath.empty()) {
+  std::string depthDir;
+  DepthRecordingWriter::Format format;
+  if (DepthRecordingSpec(videoPath, depthDir, format)) {
+    if (depthDir.empty()) return MakeError({videoPath}, "names no folder for the recording");
+    Result<DepthRecordingWriter> writer = DepthRecordingWriter::Create(depthDir, format);
+    if (!writer.ok()) return writer.error();
+    m_depth = std::make_unique<DepthRecordingWriter>(std::move(writer.value()));
+    m_depthSpec = videoPath;
+  } else if (!videoPath.empty()) {
     if (MaybeError s = m_recorder.Open(videoPath, size, frameRate)) return s;
   }
   std::error_code ec;
@@ -71,12 +112,15 @@ MaybeError TraceWriter::Open(const std::string& dir, const std::string& videoPat
 
 MaybeError TraceWriter::Write(const Simulation& sim) {
   if (!IsOpen()) return MakeError({}, "the trace is not open");
-  if (m_recorder.IsOpen()) {
+  if (m_recorder.IsOpen() || m_depth) {
     if (sim.cameraImage().empty())
       return MakeError({},
                        "cannot record camera frames: this input (TUIO contacts or contours) "
                        "brings none");
-    if (MaybeError s = m_recorder.Write(sim.cameraImage())) return s;
+    // the frame's own time: frame n began at n frame durations
+    const double time =
+        static_cast<double>(sim.Frame() - 1) / std::max(sim.params().physics.frameRate, 1e-9);
+    if (MaybeError s = WriteCamera(sim.cameraImage(), time)) return s;
   }
   // each frame's rows reach the file before the next frame: a run that is stopped keeps them
   if (!(m_objects << ObjectRows(sim) << std::flush)) {
@@ -89,8 +133,28 @@ MaybeError TraceWriter::Write(const Simulation& sim) {
   return std::nullopt;
 }
 
+MaybeError TraceWriter::WriteCamera(const cv::Mat& image, double time) {
+  if (m_depth) {
+    if (image.type() != CV_16UC1) {
+      return MakeError({m_depthSpec}, "frame " + std::to_string(m_depth->frames()) +
+                                          " is not depth (CV_16UC1, mm): a depth recording takes "
+                                          "a depth camera's frames ([camera] kind = \"depth\"); "
+                                          "record IR frames to a video (.mkv)");
+    }
+    return m_depth->Write(image, time);
+  }
+  if (!m_recorder.IsOpen()) return std::nullopt;
+  if (image.type() == CV_16UC1) {
+    return MakeError({m_recorder.path()}, "frame " + std::to_string(m_recorder.frames()) +
+                                              " is depth (CV_16UC1, mm): record a depth "
+                                              "camera's frames as depth:DIR or fakenect:DIR");
+  }
+  return m_recorder.Write(image);
+}
+
 MaybeError TraceWriter::Close() {
   m_recorder.Close();
+  m_depth.reset();
   MaybeError status;
   for (std::ofstream* file : {&m_objects, &m_frameRows}) {
     if (!file->is_open()) continue;

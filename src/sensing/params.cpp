@@ -3,6 +3,10 @@
 namespace pg {
 
 void Describe(SyntheticCameraParams& p, ParamVisitor& v) {
+  VisitEnum(v, "kind", p.kind, kCameraKindNames,
+            {"what the camera is: \"ir\" sees the table from below (8-bit frames), \"depth\" is a "
+             "Kinect v1-like depth camera above it (16-bit frames, mm)",
+             Apply::kRestart});
   v.Integer("width", p.width, 64, 4096, "px", {"image width", Apply::kRestart});
   v.Integer("height", p.height, 48, 4096, "px", {"image height", Apply::kRestart});
   v.Real("background", p.background, 0, 255, "grey", "mean background level");
@@ -18,6 +22,36 @@ void Describe(SyntheticCameraParams& p, ParamVisitor& v) {
          {"camera-to-table keystone as a fraction of the width (0 = none)", Apply::kRestart});
   v.Integer("seed", p.seed, 0, 2147483647, "1",
             {"noise seed; the same seed gives the same frames", Apply::kRestart});
+  // the depth camera's own keys (kind = "depth"); the IR camera ignores them
+  v.Real("camera_height", p.cameraHeight, 0, 1000, "cm",
+         {"depth: the camera's height above the table, looking straight down at its centre; 0 "
+          "derives it from the table's size and a Kinect v1's field of view and nearest range "
+          "(docs/sensing.md)",
+          Apply::kRestart});
+  v.Real("projector_baseline", p.projectorBaseline, -50, 50, "cm",
+         "depth: the IR projector's offset from the camera along the image's x (+: toward the "
+         "table's right edge); what a raised body hides from it reads 0 (0 = no shadow)");
+  v.Real("disparity_noise", p.disparityNoise, 0, 10, "raw steps",
+         "depth: per-pixel noise deviation in Kinect raw disparity steps (0.5 is 1.45 mm at 1 m, "
+         "growing with the distance squared)");
+  v.Boolean("disparity_steps", p.disparitySteps,
+            "depth: round each reading to Kinect v1's 11-bit disparity steps (2.9 mm at 1 m)");
+  v.Real("edge_holes", p.edgeHoles, 0, 1, "1",
+         "depth: chance that a pixel at a depth edge (edge_jump) reads 0");
+  v.Real("edge_jump", p.edgeJump, 0, 1000, "mm",
+         "depth: a pixel is at a depth edge when a neighbour's depth differs by more than this");
+  v.Real("finger_thickness", p.fingerThickness, 0.1, 10, "cm",
+         "depth: thickness of a finger and of a fingertip's pad (circles, ellipses, capsules, "
+         "polygons and a hand's fingers, scaled with the hand)");
+  v.Real("finger_rise", p.fingerRise, 0, 80, "deg",
+         "depth: a fingertip's (circle's) finger rises at this angle from its pad toward the arm "
+         "(local -y)");
+  v.Real("finger_length", p.fingerLength, 0, 20, "cm",
+         "depth: how far a fingertip's finger reaches from the pad's centre, along the table");
+  v.Real("palm_thickness", p.palmThickness, 0.1, 10, "cm",
+         "depth: thickness of a hand's palm at scale 1");
+  v.Real("arm_rise", p.armRise, 0, 80, "deg",
+         "depth: a hand's forearm rises at this angle from the wrist (local -y)");
 }
 
 void Describe(SensingParams& p, ParamVisitor& v) {

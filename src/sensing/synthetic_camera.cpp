@@ -1,5 +1,7 @@
 #include "proxygrasp/sensing/synthetic_camera.h"
 
+#include "prefault.h"
+
 #include "proxygrasp/core/params.h"
 #include "proxygrasp/core/units.h"
 
@@ -408,6 +410,8 @@ Contour LocalOutline(const ContactShape& s) {
 // A new frame's memory is usually fresh from the kernel: touching it faults once per 4 KB page, and
 // on a virtual machine those traps took a third of a two-hand frame. One call maps them all. Where
 // the call is missing or fails the pages fault as before; the contents never change.
+}  // namespace
+
 void PrefaultPages(const cv::Mat& image) {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
   static const uintptr_t kPage = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
@@ -420,6 +424,8 @@ void PrefaultPages(const cv::Mat& image) {
   (void)image;
 #endif
 }
+
+namespace {
 
 // one row of Compose's inputs and output
 struct ComposeRow {
@@ -556,10 +562,12 @@ CameraModel SyntheticCameraModel(const SyntheticCameraParams& params, const Tabl
   // a moderately wide lens: focal length 0.9 of the image width
   const double f = 0.9 * w;
   m.cameraMatrix = cv::Matx33d(f, 0, (w - 1) / 2.0, 0, f, (h - 1) / 2.0, 0, 0, 1);
-  m.distCoeffs = cv::Vec<double, 5>(params.distortion, 0, 0, 0, 0);
+  // the depth camera looks straight down: the table maps linearly onto its image
+  const bool depth = params.kind == CameraKind::kDepth;
+  m.distCoeffs = cv::Vec<double, 5>(depth ? 0.0 : params.distortion, 0, 0, 0, 0);
   // the table's near edge fills the bottom of the image; its far edge appears narrower by
   // `perspective` of the width (keystone)
-  const double inset = 0.5 * params.perspective * w;
+  const double inset = depth ? 0.0 : 0.5 * params.perspective * w;
   const cv::Point2f image[4] = {{static_cast<float>(-0.5 + inset), -0.5f},
                                 {static_cast<float>(w - 0.5 - inset), -0.5f},
                                 {static_cast<float>(w - 0.5), static_cast<float>(h - 0.5)},
@@ -578,7 +586,8 @@ SyntheticCamera::SyntheticCamera(const SyntheticCameraParams& params, const Tabl
     : m_params(params),
       m_table(table),
       m_model(SyntheticCameraModel(params, table)),
-      m_rng(static_cast<uint64_t>(params.seed)) {
+      m_rng(static_cast<uint64_t>(params.seed)),
+      m_cameraHeight(DepthCameraHeight(params, table)) {
   const int w = params.width, h = params.height;
   m_tableX.create(h, w, CV_32F);
   m_tableY.create(h, w, CV_32F);
@@ -591,7 +600,7 @@ SyntheticCamera::SyntheticCamera(const SyntheticCameraParams& params, const Tabl
     }
   }
   BuildIllumination();
-  if (params.noise > 0.0) DrawNoiseBank();
+  if (WantsNoiseBank()) DrawNoiseBank();
   // local pixel size from the map's finite differences
   m_cmPerPixel.create(h, w, CV_32F);
   for (int v = 0; v < h; ++v) {
@@ -651,8 +660,12 @@ MaybeError SyntheticCamera::SetParams(const SyntheticCameraParams& params) {
   m_params = params;
   if (lighting) BuildIllumination();
   // the bank is drawn the first time noise is asked for
-  if (m_params.noise > 0.0 && m_noiseBank.empty()) DrawNoiseBank();
+  if (WantsNoiseBank() && m_noiseBank.empty()) DrawNoiseBank();
   return std::nullopt;
+}
+
+bool SyntheticCamera::WantsNoiseBank() const {
+  return m_params.kind == CameraKind::kDepth ? m_params.disparityNoise > 0.0 : m_params.noise > 0.0;
 }
 
 std::vector<std::string> SyntheticCamera::FixedKeysChanged(
@@ -706,6 +719,7 @@ cv::Mat SyntheticCamera::Compose(const cv::Mat& contact, const cv::Mat& halo,
 }
 
 cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
+  if (m_params.kind == CameraKind::kDepth) return RenderDepth(shapes);
   const int w = m_params.width, h = m_params.height;
   // reused buffers: a fresh pair of 1.2 MB images a frame cost more than drawing the shapes
   // (page faults and clearing); only what the last frame drew is cleared
@@ -755,7 +769,8 @@ cv::Mat SyntheticCamera::Render(std::span<const ContactShape> shapes) {
 
     // area coverage from the signed distance in pixels (a one-pixel linear ramp), and the halo;
     // blocks whose centre is far outside (beyond the halo) or deep inside are done at once
-    const double pressure = std::clamp(s.pressure, 0.0, 1.0);
+    // a contact above the surface is dimmed (1 when touching, so touching contacts are unchanged)
+    const double pressure = std::clamp(s.pressure, 0.0, 1.0) * IrHoverDimming(s.height);
     const double haloReach = hand && haloWidth > 0.0 ? haloWidth : 0.0;
     // the pose's inverse with its rotation computed once
     const double cosA = std::cos(s.pose.angle), sinA = std::sin(s.pose.angle);
@@ -995,6 +1010,7 @@ cv::Mat SyntheticCamera::RenderTableImage(const cv::Mat& tableImage) {
 }
 
 cv::Mat SyntheticCamera::Background() const {
+  if (m_params.kind == CameraKind::kDepth) return DepthBackground();
   cv::Mat level;
   cv::multiply(m_gain, m_background, level);
   cv::Mat out;

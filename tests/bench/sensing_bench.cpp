@@ -83,10 +83,12 @@ void BM_TwoFlatHandsDistorted(benchmark::State& state) {
 // The synthetic camera's own cost: rendering one frame of the scene (not in the pipeline's stage
 // times, but every script, mouse and touch frame pays it). Issue 17's target: two hands in at most
 // 1 ms.
-void Render(benchmark::State& state, const std::string& scene) {
+void Render(benchmark::State& state, const std::string& scene, CameraKind kind = CameraKind::kIr) {
   cv::setNumThreads(0);
   const TableParams table;
-  SyntheticCamera camera(SyntheticCameraParams{}, table);
+  SyntheticCameraParams params;
+  params.kind = kind;
+  SyntheticCamera camera(params, table);
   std::vector<std::vector<ContactShape>> scenes(kFrames);
   for (int i = 0; i < kFrames; ++i) DemoScene(scene, 10 + i, table, scenes[i]);
   int64_t index = 0;
@@ -106,6 +108,17 @@ void BM_RenderTwoFlatHands(benchmark::State& state) {
 void BM_RenderClearTable(benchmark::State& state) {
   Render(state, "clear");
 }
+// the same scenes through the synthetic depth camera (fingers with their shafts, hands with their
+// forearms, the projector's shadow, edge holes, noise and disparity steps)
+void BM_RenderDepthTenFingertips(benchmark::State& state) {
+  Render(state, "fingers", CameraKind::kDepth);
+}
+void BM_RenderDepthTwoFlatHands(benchmark::State& state) {
+  Render(state, "hands", CameraKind::kDepth);
+}
+void BM_RenderDepthClearTable(benchmark::State& state) {
+  Render(state, "clear", CameraKind::kDepth);
+}
 
 BENCHMARK(BM_TenFingertips)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
 BENCHMARK(BM_TwoFlatHands)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
@@ -114,6 +127,9 @@ BENCHMARK(BM_TwoFlatHandsDistorted)->Unit(benchmark::kMicrosecond)->MeasureProce
 BENCHMARK(BM_RenderTenFingertips)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
 BENCHMARK(BM_RenderTwoFlatHands)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
 BENCHMARK(BM_RenderClearTable)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_RenderDepthTenFingertips)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_RenderDepthTwoFlatHands)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
+BENCHMARK(BM_RenderDepthClearTable)->Unit(benchmark::kMicrosecond)->MeasureProcessCPUTime();
 
 // The filter chain of issue 14 side by side: the whole sensing stage (Sensor::Step with the
 // default chain: background subtraction, smoothing, high-pass, gain, threshold, opening, contours,

@@ -27,6 +27,21 @@ TEST(LevelErrors, UnknownScriptContactAndKeyframeKeys) {
             "inline.toml:4:31: unknown key 'angel' in a keyframe (did you mean 'angle'?)");
 }
 
+TEST(LevelScript, KeyframesReadAHeightThatDefaultsToTouching) {
+  const Result<Level> level = ParseLevel(
+      "[[script.contacts]]\nname = \"f\"\nshape = \"circle\"\n"
+      "keys = [{t = 0, pos = [1, 1]}, {t = 1, pos = [2, 1], height = 2.5}]\n",
+      "inline.toml");
+  ASSERT_TRUE(level.ok()) << level.error().Format();
+  const std::vector<Keyframe>& keys = level.value().script.contacts.at(0).keys;
+  EXPECT_EQ(keys.at(0).height, 0.0);
+  EXPECT_EQ(keys.at(1).height, 2.5);
+  // below the table is not a height
+  EXPECT_THAT(ErrorOf("[[script.contacts]]\nname = \"f\"\nshape = \"circle\"\n"
+                      "keys = [{t = 0, pos = [1, 1], height = -1}]\n"),
+              testing::HasSubstr("height"));
+}
+
 TEST(LevelErrors, KeyframeOutOfOrder) {
   EXPECT_EQ(
       ErrorOf("[[script.contacts]]\nname = \"f\"\nshape = \"circle\"\nkeys = [\n"

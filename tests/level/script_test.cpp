@@ -110,5 +110,28 @@ TEST(Script, ShapesAtListsPresentContactsWithTheirShapes) {
   EXPECT_EQ(LastKeyframeTime(script), 5.0);
 }
 
+TEST(Script, HeightIsInterpolatedLikeThePose) {
+  // heights 0 (touching), 4 and 1 cm at t = 1, 3 and 4 s
+  ScriptContact c = Finger(Interpolation::kLinear);
+  c.keys[1].height = 4.0;
+  c.keys[2].height = 1.0;
+  EXPECT_FALSE(HeightAt(c, 0.5));
+  EXPECT_DOUBLE_EQ(*HeightAt(c, 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(*HeightAt(c, 2.0), 2.0);  // halfway up the first segment
+  EXPECT_DOUBLE_EQ(*HeightAt(c, 3.5), 2.5);  // halfway down the second
+  EXPECT_DOUBLE_EQ(*HeightAt(c, 4.0), 1.0);  // the last keyframe's
+  EXPECT_FALSE(HeightAt(c, 4.5));
+  // smooth: smoothstep(0.25) = 0.15625 of the way, as the position
+  c.interpolation = Interpolation::kSmooth;
+  EXPECT_DOUBLE_EQ(*HeightAt(c, 1.5), 4.0 * 0.15625);
+  EXPECT_DOUBLE_EQ(PoseAt(c, 1.5)->pos.x(), 4.0 * 0.15625);
+  // the shapes carry it
+  Script script;
+  script.contacts = {c};
+  const std::vector<ContactShape> shapes = ShapesAt(script, 1.5);
+  ASSERT_EQ(shapes.size(), 1u);
+  EXPECT_DOUBLE_EQ(shapes[0].height, 4.0 * 0.15625);
+}
+
 }  // namespace
 }  // namespace pg

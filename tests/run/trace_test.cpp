@@ -1,6 +1,8 @@
 #include "proxygrasp/run/trace.h"
 
 #include "proxygrasp/run/simulation.h"
+#include "proxygrasp/sensing/depth_source.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -35,6 +37,58 @@ Level TwoBoxes() {
 TEST(Trace, RecordingTraceDirSitsBesideTheVideo) {
   EXPECT_EQ(RecordingTraceDir("runs/push.mkv"), "runs/push_trace");
   EXPECT_EQ(RecordingTraceDir("push.mkv"), "push_trace");
+}
+
+TEST(Trace, ADepthRecordingsTraceSitsBesideItsFolder) {
+  EXPECT_EQ(RecordingTraceDir("depth:runs/push"), "runs/push_trace");
+  EXPECT_EQ(RecordingTraceDir("fakenect:runs/push/"), "runs/push_trace");
+}
+
+TEST(Trace, RecordsDepthFramesAsDepthAndFakenectRecordings) {
+  // the synthetic depth camera's frames through the trace writer, read back through the depth
+  // sources: PNGs keep the mm, fakenect the raw disparity every reading lies on
+  SyntheticCameraParams params;
+  params.kind = CameraKind::kDepth;
+  SyntheticCamera camera(params, TableParams{});
+  ContactShape finger;
+  finger.pose.pos = {20, 20};
+  std::vector<cv::Mat> frames;
+  for (int f = 0; f < 3; ++f) {
+    finger.height = 0.5 * f;
+    frames.push_back(camera.Render({&finger, 1}));
+  }
+  const std::string root = (fs::temp_directory_path() / "pg_trace_depth").string();
+  fs::remove_all(root);
+  for (const std::string format : {"depth", "fakenect"}) {
+    const std::string spec = format + ":" + root + "/" + format;
+    TraceWriter trace;
+    ASSERT_FALSE(trace.Open(RecordingTraceDir(spec), spec, cv::Size(640, 480), 60.0));
+    for (size_t f = 0; f < frames.size(); ++f) ASSERT_FALSE(trace.WriteCamera(frames[f], f / 60.0));
+    // an IR frame is refused, naming the recording
+    const MaybeError ir = trace.WriteCamera(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), 0.05);
+    ASSERT_TRUE(ir);
+    EXPECT_THAT(ir->Format(), HasSubstr(spec));
+    EXPECT_THAT(ir->Format(), HasSubstr("kind = \"depth\""));
+    ASSERT_FALSE(trace.Close());
+    EXPECT_TRUE(fs::exists(root + "/" + format + "_trace/objects.csv"));
+    Result<std::unique_ptr<FrameSource>> source = OpenDepthSource(spec);
+    ASSERT_TRUE(source.ok()) << source.error().Format();
+    for (const cv::Mat& frame : frames) {
+      cv::Mat back;
+      ASSERT_EQ(source.value()->Read(back), FrameStatus::kOk) << format;
+      EXPECT_EQ(cv::countNonZero(back != frame), 0) << format;
+    }
+    cv::Mat end;
+    EXPECT_EQ(source.value()->Read(end), FrameStatus::kEnd) << format;
+  }
+  // and a video refuses depth frames, saying where they go
+  TraceWriter video;
+  ASSERT_FALSE(video.Open(root + "/video_trace", root + "/input.mkv", cv::Size(640, 480), 60.0));
+  const MaybeError depth = video.WriteCamera(frames[0], 0.0);
+  ASSERT_TRUE(depth);
+  EXPECT_THAT(depth->Format(), HasSubstr("depth:DIR or fakenect:DIR"));
+  ASSERT_FALSE(video.Close());
+  fs::remove_all(root);
 }
 
 TEST(Trace, StreamsOneRowPerObjectAndOnePerFrame) {

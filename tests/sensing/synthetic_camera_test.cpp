@@ -378,6 +378,48 @@ TEST(SyntheticCamera, PressureDimsAContact) {
   EXPECT_NEAR(frame.at<uint8_t>(240, 320), 0.5 * (p.contactLevel + p.background), 1.5);
 }
 
+TEST(SyntheticCamera, HeightDimsAContact) {
+  // a contact 1 cm above the surface shows exp(-1 / 0.5) = 0.135 of its contrast; touching, all
+  SyntheticCameraParams p;
+  p.noise = 0.0;
+  SyntheticCamera camera(p, TableParams{});
+  ContactShape raised = Shape(ShapeKind::kCircle, {30.5, 23.0});
+  raised.radius = 1.5;
+  for (double height : {0.0, 1.0, 3.0}) {
+    raised.height = height;
+    const ContactShape shapes[] = {raised};
+    const cv::Mat frame = camera.Render(shapes);
+    const double expected =
+        p.background + (p.contactLevel - p.background) * std::exp(-height / 0.5);
+    EXPECT_NEAR(IrHoverDimming(height), std::exp(-height / 0.5), 1e-15);
+    // 1.5 grey: the vignetting at the centre and the rounding to a grey level
+    EXPECT_NEAR(frame.at<uint8_t>(240, 320), expected, 1.5) << height << " cm";
+  }
+}
+
+TEST(SyntheticCamera, TheKindFixesTheCamera) {
+  const TableParams table;
+  SyntheticCameraParams p;
+  SyntheticCamera camera(p, table);
+  EXPECT_EQ(camera.kind(), CameraKind::kIr);
+  SyntheticCameraParams depth = p;
+  depth.kind = CameraKind::kDepth;
+  depth.cameraHeight = 120.0;
+  depth.disparityNoise = 1.0;  // live
+  EXPECT_EQ(camera.FixedKeysChanged(depth), (std::vector<std::string>{"kind", "camera_height"}));
+  // the depth camera maps its image linearly onto the table whatever distortion and perspective
+  // say (they are the IR camera's)
+  depth.distortion = 0.2;
+  depth.perspective = 0.1;
+  const CameraModel model = SyntheticCameraModel(depth, table);
+  const Vec2 corner = model.CameraToTable(Vec2(-0.5, -0.5));
+  EXPECT_NEAR(corner.x(), 0.0, 1e-6);
+  EXPECT_NEAR(corner.y(), table.height, 1e-6);
+  const Vec2 centre = model.CameraToTable(Vec2(319.5, 239.5));
+  EXPECT_NEAR((centre - Vec2(30.5, 23.0)).norm(), 0.0, 1e-6);
+  EXPECT_EQ(SyntheticCamera(depth, table).Render({}).type(), CV_16UC1);
+}
+
 TEST(DemoScene, KnownScenes) {
   const TableParams table;
   std::vector<ContactShape> shapes;

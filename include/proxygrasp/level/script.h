@@ -27,9 +27,10 @@ inline constexpr double kScriptSettleTime = 1.0;
 
 /// One keyframe of a contact: where it is at time t. Angles in radians (degrees in the file).
 struct Keyframe {
-  double t = 0.0;  ///< s from the start of the level
-  Pose2 pose;      ///< position cm, angle rad CCW
-  SourceLoc loc;   ///< where the level defines it
+  double t = 0.0;       ///< s from the start of the level
+  Pose2 pose;           ///< position cm, angle rad CCW
+  double height = 0.0;  ///< from the table to the contact's underside, cm (0 = touching)
+  SourceLoc loc;        ///< where the level defines it
 };
 
 /// A scripted contact: a synthetic-camera shape moved through its keyframes.
@@ -68,7 +69,12 @@ struct Script {
 /// keyframe.
 std::optional<Pose2> PoseAt(const ScriptContact& contact, double t);
 
-/// The contacts present at time t (s), in script order, each with its interpolated pose (radians).
+/// The contact's height above the table at time t (cm, from the table to its underside),
+/// interpolated as its pose is, or nullopt when t is before its first or after its last keyframe.
+std::optional<double> HeightAt(const ScriptContact& contact, double t);
+
+/// The contacts present at time t (s), in script order, each with its interpolated pose (radians)
+/// and height (cm).
 /// When contactIndices is given it receives the index into script.contacts of each shape.
 std::vector<ContactShape> ShapesAt(const Script& script, double t,
                                    std::vector<int>* contactIndices = nullptr);

@@ -1,5 +1,6 @@
 // The one trace writer: a run's per-frame rows streamed to disk as the run goes (objects.csv,
-// frames.csv) and, when asked, its camera frames recorded losslessly beside them. The runner, the
+// frames.csv) and, when asked, its camera frames recorded losslessly beside them (a video, or for
+// a depth camera a depth:DIR or fakenect:DIR recording). The runner, the
 // app's recording and `run --record` all write through it, so every trace has the same columns.
 #pragma once
 
@@ -8,10 +9,12 @@
 
 #include <cstdint>
 #include <fstream>
+#include <memory>
 #include <string>
 
 namespace pg {
 
+class DepthRecordingWriter;
 class Simulation;
 struct FrameStats;
 
@@ -25,7 +28,8 @@ inline constexpr const char* kFramesCsvHeader =
     "total_ms";
 
 /// Where a recording's trace goes: the file's path without its extension plus "_trace"
-/// ("runs/push.mkv" -> "runs/push_trace").
+/// ("runs/push.mkv" -> "runs/push_trace"); for a depth recording its folder's path plus "_trace"
+/// ("depth:runs/push" -> "runs/push_trace").
 std::string RecordingTraceDir(const std::string& recordingPath);
 
 /// One objects.csv row per object after a frame: frame, t (s, the end of the frame), name,
@@ -39,22 +43,28 @@ std::string FrameRow(const FrameStats& stats, double t);
 /// memory, whatever its length.
 class TraceWriter {
  public:
-  TraceWriter() = default;
+  TraceWriter();
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
-  ~TraceWriter() { Close(); }
+  ~TraceWriter();
 
   /// Creates dir (and its parents) and starts objects.csv and frames.csv there with their
   /// headers. When videoPath is not empty, the camera frames (size, at frameRate) are recorded
   /// there too (FFV1); its folder must exist, and it is opened first, so that a video that cannot
-  /// be written leaves no trace folder behind. Errors name the folder or file; on error nothing
-  /// stays open.
+  /// be written leaves no trace folder behind. A videoPath "depth:DIR" or "fakenect:DIR" records
+  /// a depth camera's frames (CV_16UC1, mm) as that recording instead (DepthRecordingWriter; the
+  /// folder is made). Errors name the folder or file; on error nothing stays open.
   MaybeError Open(const std::string& dir, const std::string& videoPath = "",
                   cv::Size size = cv::Size(), double frameRate = 0.0);
 
   /// Appends the rows of the frame the simulation has just stepped, and its camera image when
   /// recording. A failed write is an Error naming the file.
   MaybeError Write(const Simulation& sim);
+
+  /// Records one camera image taken at `time` (s) when recording (nothing otherwise): 8-bit grey
+  /// to a video, 16-bit depth to a depth recording; the other kind is an Error saying which
+  /// recording takes it.
+  MaybeError WriteCamera(const cv::Mat& image, double time);
 
   /// Flushes and closes every file. Safe to call twice. An Error when the files could not be
   /// completed.
@@ -71,6 +81,8 @@ class TraceWriter {
   std::ofstream m_objects;
   std::ofstream m_frameRows;
   FrameRecorder m_recorder;
+  std::unique_ptr<DepthRecordingWriter> m_depth;  // a depth recording, when recording one
+  std::string m_depthSpec;                        // its depth:DIR or fakenect:DIR
   int64_t m_frames = 0;
 };
 

@@ -42,22 +42,43 @@ struct ContactShape {
   std::vector<Vec2> points;  ///< polygon vertices in the local frame, cm
   Pose2 pose;                ///< where the shape sits on the table
   double pressure = 1.0;     ///< brightness of the contact, 0..1 of full contact, non-dimensional
+  double height = 0.0;       ///< from the table to the contact's underside, cm (0 = touching)
 };
+
+/// What the synthetic table camera is.
+enum class CameraKind {
+  kIr,     ///< an IR camera under a diffuse-illumination table: 8-bit grey frames
+  kDepth,  ///< a Kinect v1-like depth camera above the table: 16-bit depth frames, mm
+};
+inline constexpr const char* kCameraKindNames[] = {"ir", "depth"};
 
 /// Parameters of the synthetic table camera. Section [camera] of a level.
 struct SyntheticCameraParams {
-  int width = 640;              ///< image width, pixels
-  int height = 480;             ///< image height, pixels
-  double background = 40.0;     ///< mean background level, 8-bit grey
-  double contactLevel = 220.0;  ///< level of full contact, 8-bit grey
-  double haloLevel = 45.0;      ///< extra brightness of a hovering hand's halo, 8-bit grey
-  double haloWidth = 1.5;       ///< how far the halo reaches beyond a hand, cm
-  double vignetting = 0.25;     ///< brightness lost at the corners, fraction of background
-  double gradient = 12.0;       ///< slow left-to-right background ramp, 8-bit grey
-  double noise = 3.0;           ///< Gaussian sensor noise deviation, 8-bit grey
-  double distortion = 0.0;      ///< radial lens distortion k1, non-dimensional (0 = none)
-  double perspective = 0.0;     ///< camera-to-table keystone, fraction of the width (0 = none)
-  int seed = 1;                 ///< noise seed; the same seed gives the same frames
+  CameraKind kind = CameraKind::kIr;  ///< IR frames from below or depth frames from above
+  int width = 640;                    ///< image width, pixels
+  int height = 480;                   ///< image height, pixels
+  double background = 40.0;           ///< mean background level, 8-bit grey
+  double contactLevel = 220.0;        ///< level of full contact, 8-bit grey
+  double haloLevel = 45.0;            ///< extra brightness of a hovering hand's halo, 8-bit grey
+  double haloWidth = 1.5;             ///< how far the halo reaches beyond a hand, cm
+  double vignetting = 0.25;           ///< brightness lost at the corners, fraction of background
+  double gradient = 12.0;             ///< slow left-to-right background ramp, 8-bit grey
+  double noise = 3.0;                 ///< Gaussian sensor noise deviation, 8-bit grey
+  double distortion = 0.0;            ///< radial lens distortion k1, non-dimensional (0 = none)
+  double perspective = 0.0;  ///< camera-to-table keystone, fraction of the width (0 = none)
+  int seed = 1;              ///< noise seed; the same seed gives the same frames
+  // the depth camera (kind = kDepth); docs/sensing.md, "The synthetic depth camera"
+  double cameraHeight = 0.0;  ///< depth camera above the table, cm (0 = derived from the table)
+  double projectorBaseline = 7.5;  ///< IR projector's offset from the camera along image x, cm
+  double disparityNoise = 0.5;     ///< per-pixel noise deviation, Kinect raw disparity steps
+  bool disparitySteps = true;      ///< depth rounded to Kinect v1's 11-bit disparity steps
+  double edgeHoles = 0.5;          ///< chance that a pixel at a depth edge reads 0, 0..1
+  double edgeJump = 10.0;          ///< depth step that makes an edge, mm
+  double fingerThickness = 1.2;    ///< a finger's (and a fingertip pad's) thickness, cm
+  double fingerRise = 25.0;        ///< a fingertip's finger rising toward the arm, deg
+  double fingerLength = 6.0;       ///< the finger's reach from the pad's centre, cm
+  double palmThickness = 2.5;      ///< a hand's palm thickness (scale 1), cm
+  double armRise = 20.0;           ///< a hand's forearm rising from the wrist, deg
 };
 
 /// Threshold modes.
