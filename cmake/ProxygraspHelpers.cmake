@@ -26,9 +26,12 @@ endif()
 function(proxygrasp_module name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_library(pg_${name} STATIC ${ARG_SOURCES})
-  target_include_directories(pg_${name} PUBLIC ${PROJECT_SOURCE_DIR}/include
+  # the installed library finds its headers under the prefix's include/ (cmake/ProxygraspInstall.cmake)
+  target_include_directories(pg_${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+                                               $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
                                         PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
-  target_link_libraries(pg_${name} PUBLIC ${ARG_DEPS} PRIVATE proxygrasp_options)
+  # the warning flags are this project's own business: not part of what is installed
+  target_link_libraries(pg_${name} PUBLIC ${ARG_DEPS} PRIVATE $<BUILD_INTERFACE:proxygrasp_options>)
 endfunction()
 
 # proxygrasp_tests(module [TARGET name] TESTS name... [LIBS ...] [INCLUDES dir...]
@@ -73,6 +76,11 @@ const char* ProxygraspBin() { return \"$<TARGET_FILE:proxygrasp>\"; }
   endif()
   gtest_discover_tests(${target} DISCOVERY_MODE PRE_TEST
                        PROPERTIES LABELS ${module} TIMEOUT ${ARG_TIMEOUT})
+  # Temporary files go under the build folder (std::filesystem::temp_directory_path reads TMPDIR),
+  # so that builds in other clones or worktrees running their tests at the same time never share
+  # a fixed name under /tmp.
+  file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/tmp)
+  list(PREPEND ARG_ENVIRONMENT "TMPDIR=${CMAKE_BINARY_DIR}/tmp")
   if(ARG_ENVIRONMENT)
     # gtest_discover_tests flattens its PROPERTIES, which keeps only the first variable of an
     # ENVIRONMENT list: set the variables on the discovered tests (${target}_TESTS) instead, from a

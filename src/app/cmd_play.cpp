@@ -3,6 +3,7 @@
 #include "commands.h"
 
 #include "proxygrasp/app/app.h"
+#include "proxygrasp/app/level_search.h"
 #include "proxygrasp/app/video.h"
 #include "proxygrasp/bench/bench.h"
 #include "proxygrasp/run/overrides.h"
@@ -75,20 +76,6 @@ void PrintTiming(std::vector<double> ms, const FrameLoad& load, double frameRate
       MeanAfter(load.contacts, skip), MeanAfter(load.particles, skip));
 }
 
-// the default level from the working directory, or from the source tree the executable was
-// built in (build/<preset>/proxygrasp)
-std::string DefaultLevel() {
-  namespace fs = std::filesystem;
-  if (fs::exists(kDefaultLevel)) return kDefaultLevel;
-  std::error_code ec;
-  const fs::path exe = fs::canonical("/proc/self/exe", ec);
-  if (!ec) {
-    const fs::path candidate = exe.parent_path().parent_path().parent_path() / kDefaultLevel;
-    if (fs::exists(candidate)) return candidate.string();
-  }
-  return kDefaultLevel;
-}
-
 // true when SDL can open its video subsystem: a display is there
 bool HaveDisplay() {
   const char* x11 = std::getenv("DISPLAY");
@@ -157,7 +144,14 @@ int PlayHeadless(const PlayArgs& args, Level level) {
 
 int Play(const PlayArgs& args) {
   PlayArgs a = args;
-  if (a.level.empty()) a.level = DefaultLevel();
+  // a file, or a level name in ./levels, the installed levels or the source tree's
+  if (a.level.empty()) a.level = kDefaultLevel;
+  const Result<std::string> path = ResolveLevel(a.level);
+  if (!path.ok()) {
+    std::cerr << "proxygrasp play: " << path.error().Format() << "\n";
+    return kExitBadInput;
+  }
+  a.level = path.value();
 
   // the level is checked first, so a bad file is reported the same with or without a display
   Result<Level> level = LoadLevel(a.level);
@@ -229,8 +223,9 @@ void AddPlayCommand(CLI::App& app, int& exitCode) {
       "play", "Play a level in a window on the table (headless video and PNG without a display)");
   // CLI11 binds options by reference, so they live as long as the program
   static PlayArgs args;
-  cmd->add_option("level", args.level, std::string("Level file (TOML); default ") + kDefaultLevel)
-      ->check(CLI::ExistingFile);
+  cmd->add_option(
+      "level", args.level,
+      std::string("Level file (TOML) or level name, found as run's are; default ") + kDefaultLevel);
   cmd->add_option("--input", args.input,
                   "camera:N, video:FILE, script, mouse, touch, or tuio:PORT / tuio:ADDRESS:PORT "
                   "(TUIO over UDP) (default: camera 0 when it opens, else the mouse)");

@@ -1,6 +1,7 @@
 // `proxygrasp run`: runs levels headless through the whole pipeline and checks their expectations.
 #include "commands.h"
 
+#include "proxygrasp/app/level_search.h"
 #include "proxygrasp/app/video.h"
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/runner.h"
@@ -46,8 +47,14 @@ int RunLevels(const RunArgs& args) {
 
   // load and override every level first, so a bad file or --set stops before anything runs
   std::vector<Level> levels;
-  for (const std::string& path : args.levels) {
-    Result<Level> level = LoadLevel(path);
+  for (const std::string& given : args.levels) {
+    // a file, or a level name in ./levels, the installed levels or the source tree's
+    const Result<std::string> path = ResolveLevel(given);
+    if (!path.ok()) {
+      std::cerr << "proxygrasp run: " << path.error().Format() << "\n";
+      return kExitBadInput;
+    }
+    Result<Level> level = LoadLevel(path.value());
     if (!level.ok()) {
       std::cerr << level.error().Format() << "\n";
       return kExitBadInput;
@@ -95,9 +102,10 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
       "run", "Run levels headless through the whole pipeline and check their expectations");
   // CLI11 binds options by reference, so they live as long as the program
   static RunArgs args;
-  cmd->add_option("levels", args.levels, "Level files (TOML)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  cmd->add_option("levels", args.levels,
+                  "Level files (TOML), or level names (demo_sort) found in ./levels, then the "
+                  "installed share/proxygrasp/levels, then the source tree of a build folder")
+      ->required();
   cmd->add_option("--set", args.sets, "Override a parameter: section.key=value (repeatable)");
   cmd->add_option("--mode", args.mode, "Force the proxy mode of every run")
       ->check(CLI::IsMember({"persistent", "instant"}));

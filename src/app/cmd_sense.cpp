@@ -9,6 +9,7 @@
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
 #include "proxygrasp/run/tuio_output.h"
+#include "proxygrasp/sensing/frame_source.h"
 #include "proxygrasp/sensing/preview.h"
 
 #include <opencv2/imgcodecs.hpp>
@@ -153,6 +154,7 @@ struct SenseOptions {
   std::string preview;  // PNG of the last frame's filter stages and contacts
   std::string tuioOut;  // HOST:PORT or file:PATH
   bool tuioCursors = false;
+  bool stills = false;  // each image on its own
 };
 
 // the sensing view of the last frame: each filter stage side by side, contacts and ids drawn
@@ -179,6 +181,16 @@ int RunSense(const SenseOptions& o) {
     std::cerr << me << s->Format() << "\n";
     return kExitBadInput;
   }
+  // Stills: each image is sensed on its own, by a simulation started afresh for it (its
+  // background is its own spatial estimate, its level set from its own evidence: sensing.stills).
+  // A single image file is one (and said); a folder's images are taken as one camera's frames
+  // (one of another size is a bad frame) unless --stills says otherwise.
+  bool stills = o.stills || params.sensing.stills;
+  if (!stills && !EndsWith(o.input, ".toml") && IsImageFile(o.input)) {
+    std::cerr << me << o.input << " is a single image: sensed on its own (--stills)\n";
+    stills = true;
+  }
+  params.sensing.stills = stills;
 
   // the TUIO output, before any frame: a bad spec stops the run before it starts
   std::unique_ptr<TuioOutput> output;
@@ -221,6 +233,8 @@ int RunSense(const SenseOptions& o) {
   while (limit <= 0 || index < limit) {
     // the run starts with the first frame: its size is the camera size the sensor takes
     Result<FrameStatus> stepped = imageless ? FrameStatus::kOk : in.frames.Peek();
+    // a fresh simulation for every image (of any size)
+    if (stills) started = false;
     if (!started && stepped.ok() && stepped.value() == FrameStatus::kOk) {
       const cv::Size size =
           imageless ? cv::Size(params.camera.width, params.camera.height) : in.frames.PeekedSize();
@@ -308,7 +322,8 @@ void AddSenseCommand(CLI::App& app, int& exitCode) {
   // CLI11 binds options by reference, so they live as long as the program
   static SenseOptions options;
   cmd->add_option("INPUT", options.input,
-                  "camera:N, /dev/videoN, video:FILE or a video file, folder:DIR or a directory, "
+                  "camera:N, /dev/videoN, video:FILE or a video file, an image file, folder:DIR or "
+                  "a directory, "
                   "synthetic:fingers or synthetic:hands, tuio:PORT or tuio:ADDRESS:PORT (TUIO "
                   "over UDP), or a level file (*.toml)")
       ->required();
@@ -325,6 +340,10 @@ void AddSenseCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--tuio-out", options.tuioOut,
                   "also send each frame's contacts as TUIO 2.0 to HOST:PORT over UDP, or record "
                   "them to file:PATH (touchlib XML; time tags are the frames' times)");
+  cmd->add_flag("--stills", options.stills,
+                "sense each image on its own (a folder of unrelated images or photos): its "
+                "background from the image alone, nothing carried from one to the next; a single "
+                "image file is sensed so without it");
   cmd->add_flag("--tuio-cursors", options.tuioCursors,
                 "with --tuio-out, also send TUIO 1.1 /tuio/2Dcur cursors for older clients")
       ->needs("--tuio-out");

@@ -1254,10 +1254,35 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       };
       const double staticTorque = o.tableStatic * weight * rEff;
       const double kineticTorque = o.tableKinetic * weight * rEff;
-      p.catchUpSpeed = catchUp(torqueAt(turnSign), torqueAt(turnSign), kFollowAngle, staticTorque,
-                               kineticTorque, mass.inertia, false);
-      p.stopSpeed = catchUp(torqueAt(-turnSign), torqueAt(-turnSign), kFollowAngle, staticTorque,
-                            kineticTorque, mass.inertia, true);
+      // Ninth revision: how far the object may lag (or, stopping, lead) while it catches up. A
+      // lag the grip holds elastically is given back: its torque rises with the lag until the
+      // bodies slide (on a round slice friction alone turns it, flat once every body slides) or
+      // leave their faces' ends, and the object comes to rest where the table's static friction
+      // holds it against the grip, at most the lag eps0 at which the grip's torque reached static
+      // friction. Only what the grip slides beyond that elastic lag stays behind. So the object
+      // follows within 5 degrees when eps0 is within 5 degrees (the margin C(5 deg) / R above)
+      // and the lag it reaches while catching up stays within the elastic lag plus the 5 degrees
+      // less eps0 it may keep; never less than the 5 degrees that counted before.
+      auto lagLimit = [&](double sign) {
+        constexpr double kScanStep = DegToRad(0.5);
+        constexpr int kScanSteps = 60;  // up to 30 degrees
+        double previous = 0.0, elastic = kScanSteps * kScanStep, loose = kInfinity;
+        for (int j = 1; j <= kScanSteps; ++j) {
+          const double lag = j * kScanStep, torque = gripTorque(sign, lag);
+          if (loose == kInfinity && torque >= staticTorque) loose = lag;
+          if (torque <= previous) {
+            elastic = lag - kScanStep;
+            break;
+          }
+          previous = torque;
+        }
+        if (loose > elastic) return kFollowAngle;
+        return std::max(kFollowAngle, elastic + kFollowAngle - loose);
+      };
+      p.catchUpSpeed = catchUp(torqueAt(turnSign), torqueAt(turnSign), lagLimit(turnSign),
+                               staticTorque, kineticTorque, mass.inertia, false);
+      p.stopSpeed = catchUp(torqueAt(-turnSign), torqueAt(-turnSign), lagLimit(-turnSign),
+                            staticTorque, kineticTorque, mass.inertia, true);
       p.margin = std::min({p.margin, p.catchUpSpeed / s.turnRate, p.stopSpeed / s.turnRate});
       p.capacity = p.margin * p.requirement;
     }
@@ -1278,6 +1303,20 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
   p.nearBoundary = p.margin >= 1.0 - kBoundaryBand && p.margin <= 1.0 + kBoundaryBand;
   p.marginMax = p.margin;
   return p;
+}
+
+// The farthest a fingertip that slides over the round layer-0 slice goes round it (rad): the
+// change of its centre's bearing from the slice's axis. 0 when the slice is not round or nothing
+// slides.
+double SlideTurn(const GraspScene& s, const PhysicsParams& physics) {
+  if (s.fingersAfter.empty() || !Slice0(s.object, physics).circle) return 0.0;
+  double most = 0.0;
+  for (size_t i = 0; i < s.fingers.size() && i < s.fingersAfter.size(); ++i) {
+    const Vec2& a = s.fingers[i].pos;
+    const Vec2& b = s.fingersAfter[i].pos;
+    most = std::max(most, std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b))));
+  }
+  return most;
 }
 
 }  // namespace
@@ -1318,6 +1357,16 @@ GraspPrediction PredictGrasp(const GraspScene& s, const PhysicsParams& physics, 
   least.nearBoundary =
       (least.margin >= 1.0 - kBoundaryBand && least.margin <= 1.0 + kBoundaryBand) ||
       (least.margin < 1.0 - kBoundaryBand && most >= 1.0 - kBoundaryBand);
+  // Eighth revision (docs/physics.md, "A slide over a round slice"): fingertips that slide over a
+  // round slice press it through its centre, so their normal forces give it no torque, and their
+  // friction turns it by mu_p (N_a - N_b) rho, the difference of the sliding pieces' pushes. The
+  // piece that presses harder holds the surface and the slice turns with it, at most as far as
+  // that piece goes round it. How much harder one piece presses depends on where the object sits
+  // in the grip when the slide begins, which the rule does not model: where a piece goes round
+  // the slice by the angle that still counts as following or more, the rule does not say that
+  // the grip holds (a grip that cannot hold still cannot).
+  least.slideTurn = SlideTurn(s, physics);
+  if (least.canHold && least.slideTurn >= kFollowAngle) least.nearBoundary = true;
   return least;
 }
 
@@ -1344,6 +1393,9 @@ std::string GraspSceneToml(const GraspScene& s, const GraspPrediction& predictio
     << ", margin " << prediction.margin;
   if (prediction.marginMax > prediction.margin)
     t << " (to " << prediction.marginMax << " while the fingers slide)";
+  if (prediction.slideTurn > 0.0) {
+    t << ", a fingertip slides " << RadToDeg(prediction.slideTurn) << " deg round the slice";
+  }
   if (s.profile == GraspProfile::kStep && s.motion != GraspMotion::kPush) {
     t << ", step: catches up to " << prediction.catchUpSpeed << ", stops from "
       << prediction.stopSpeed << (s.motion == GraspMotion::kTurn ? " rad/s" : " cm/s");
@@ -1775,6 +1827,8 @@ std::string GraspSweepJson(const GraspSweepReport& report) {
       << "\", \"margin\": " << (std::isfinite(r.prediction.margin) ? r.prediction.margin : 1e9)
       << ", \"margin_max\": "
       << (std::isfinite(r.prediction.marginMax) ? r.prediction.marginMax : 1e9)
+      << ", \"slide_turn_deg\": " << RadToDeg(r.prediction.slideTurn)
+      << ", \"fingers\": " << r.scene.fingers.size() << ", \"depth\": " << r.scene.depth
       << ", \"can_hold\": " << (r.prediction.canHold ? "true" : "false")
       << ", \"near_boundary\": " << (r.prediction.nearBoundary ? "true" : "false")
       << ", \"outcomes\": [";

@@ -55,15 +55,14 @@ class OpenNiSource : public FrameSource {
     const char* uri = m_uri.empty() ? openni::ANY_DEVICE : m_uri.c_str();
     if (m_device.open(uri) != openni::STATUS_OK) {
       const std::string what = m_file ? "cannot play the ONI file" : "no OpenNI2 device";
-      return MakeError({m_file ? m_uri : m_spec},
-                       what + " (" + LastOpenNiError() + ")");
+      return MakeError({m_file ? m_uri : m_spec}, what + " (" + LastOpenNiError() + ")");
     }
     if (!m_device.hasSensor(openni::SENSOR_DEPTH))
-      return MakeError({m_file ? m_uri : m_spec},
-                       m_file ? "the ONI file has no depth stream" : "the device has no depth sensor");
+      return MakeError({m_file ? m_uri : m_spec}, m_file ? "the ONI file has no depth stream"
+                                                         : "the device has no depth sensor");
     if (m_depth.create(m_device, openni::SENSOR_DEPTH) != openni::STATUS_OK)
-      return MakeError({m_spec}, std::string("cannot create the depth stream: ") +
-                                     LastOpenNiError());
+      return MakeError({m_spec},
+                       std::string("cannot create the depth stream: ") + LastOpenNiError());
     if (m_file) {
       // one frame per read, as fast as the pipeline takes them, and no looping
       openni::PlaybackControl* playback = m_device.getPlaybackControl();
@@ -74,8 +73,8 @@ class OpenNiSource : public FrameSource {
       }
     }
     if (m_depth.start() != openni::STATUS_OK)
-      return MakeError({m_spec}, std::string("cannot start the depth stream: ") +
-                                     LastOpenNiError());
+      return MakeError({m_spec},
+                       std::string("cannot start the depth stream: ") + LastOpenNiError());
     const openni::VideoMode mode = m_depth.getVideoMode();
     m_fps = mode.getFps();
     m_open = true;
@@ -110,8 +109,8 @@ class OpenNiSource : public FrameSource {
     }
     ++m_read;
     const openni::PixelFormat format = ref.getVideoMode().getPixelFormat();
-    const cv::Mat view(ref.getHeight(), ref.getWidth(), CV_16UC1,
-                       const_cast<void*>(ref.getData()), static_cast<size_t>(ref.getStrideInBytes()));
+    const cv::Mat view(ref.getHeight(), ref.getWidth(), CV_16UC1, const_cast<void*>(ref.getData()),
+                       static_cast<size_t>(ref.getStrideInBytes()));
     if (format == openni::PIXEL_FORMAT_DEPTH_1_MM) {
       view.copyTo(frame);
     } else if (format == openni::PIXEL_FORMAT_DEPTH_100_UM) {

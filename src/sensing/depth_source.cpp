@@ -228,8 +228,7 @@ Result<cv::Mat> ReadFakenectDepth(const std::string& path) {
   if (width <= 0 || height <= 0 || width > 8192 || height > 8192)
     return MakeError({path}, "PGM of an impossible size " + std::to_string(width) + "x" +
                                  std::to_string(height));
-  if (maxValue < 256)
-    return MakeError({path}, "8-bit PGM where 16-bit raw disparity is expected");
+  if (maxValue < 256) return MakeError({path}, "8-bit PGM where 16-bit raw disparity is expected");
   cv::Mat raw(static_cast<int>(height), static_cast<int>(width), CV_16UC1);
   const std::streamsize bytes = static_cast<std::streamsize>(width * height * 2);
   in.read(reinterpret_cast<char*>(raw.data), bytes);
@@ -292,7 +291,8 @@ MaybeError DepthRecordingWriter::Write(const cv::Mat& depthMm, double time) {
         row[2 * x] = static_cast<uint8_t>(raw & 0xff);
         row[2 * x + 1] = static_cast<uint8_t>(raw >> 8);
       }
-      out.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size()));
+      out.write(reinterpret_cast<const char*>(row.data()),
+                static_cast<std::streamsize>(row.size()));
     }
     if (!out) return MakeError({path}, "cannot write the frame");
     std::ofstream index((fs::path(m_dir) / "INDEX.txt").string(), std::ios::app);
@@ -327,8 +327,9 @@ Result<std::unique_ptr<FrameSource>> OpenDepthSource(const std::string& spec) {
       return MakeError({spec}, "the Kinect's number must be a number (kinect, kinect:1, ...)");
     return OpenFreenect(std::stoi(number), spec);
   }
-  return MakeError({spec}, "not a depth source (depth:DIR, fakenect:DIR, oni:FILE, "
-                           "openni[:URI], kinect[:N])");
+  return MakeError({spec},
+                   "not a depth source (depth:DIR, fakenect:DIR, oni:FILE, "
+                   "openni[:URI], kinect[:N])");
 }
 
 }  // namespace pg

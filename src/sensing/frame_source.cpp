@@ -187,7 +187,9 @@ class FolderSource : public FrameSource {
     return FrameStatus::kOk;
   }
 
-  std::string Describe() const override { return "folder " + m_dir; }
+  std::string Describe() const override {
+    return (m_files.size() == 1 && m_files[0] == m_dir ? "image " : "folder ") + m_dir;
+  }
 
  private:
   std::string m_dir;
@@ -212,18 +214,21 @@ long long LastNumber(const std::string& name) {
 
 }  // namespace
 
-std::vector<std::string> NumberedImages(const std::string& dir) {
+bool IsImageFile(const std::string& path) {
   static const char* const kExtensions[] = {".png", ".jpg",  ".jpeg", ".bmp",
                                             ".tif", ".tiff", ".pgm",  ".ppm"};
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return std::find(std::begin(kExtensions), std::end(kExtensions), ext) != std::end(kExtensions);
+}
+
+std::vector<std::string> NumberedImages(const std::string& dir) {
   std::vector<std::pair<long long, std::string>> found;
   std::error_code ec;
   for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
     if (!e.is_regular_file()) continue;
-    std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return std::tolower(c); });
-    if (std::find(std::begin(kExtensions), std::end(kExtensions), ext) == std::end(kExtensions))
-      continue;
+    if (!IsImageFile(e.path().string())) continue;
     const std::string stem = e.path().stem().string();
     found.emplace_back(LastNumber(stem), e.path().string());
   }
@@ -320,6 +325,9 @@ Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec) {
     return Ptr(std::make_unique<FolderSource>(path, std::move(files)));
   }
   if (wantFolder) return MakeError({path}, "is not a directory");
+  // one image file: a folder of one image
+  if (!wantVideo && IsImageFile(path))
+    return Ptr(std::make_unique<FolderSource>(path, std::vector<std::string>{path}));
   auto video = std::make_unique<VideoSource>(path);
   if (MaybeError s = video->Open()) return *s;
   return Ptr(std::move(video));

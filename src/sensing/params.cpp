@@ -30,9 +30,18 @@ void Describe(SensingParams& p, ParamVisitor& v) {
              "first frame); unused when the calibration file holds a background",
              Apply::kRestart});
   v.Real("background_warmup", p.backgroundWarmup, 0, 60, "s",
-         "how long a background estimated from the first frame follows the frames everywhere, "
-         "so that what is static from the start (an illuminator's hot spot) is background (a "
+         "how long a background estimated from the first frame (at the scale of a hand, without "
+         "fingertips and hands) takes in the frames' per-pixel low, so that what is static from "
+         "the start (an illuminator's hot spot) is background and what moved away is not (a "
          "captured or calibrated background needs none); 0 = no warm-up");
+  v.Real("background_settle", p.backgroundSettle, 0, 600, "s",
+         "for this long after the warm-up, an estimated background comes down fast where the "
+         "frame is darker by more than 3 noise deviations (a hand that lay there at the start "
+         "has moved), never below the first frame's spatial estimate; 0 = not at all");
+  v.Boolean("stills", p.stills,
+            "each frame on its own (a folder of unrelated images, a photo): the background is "
+            "the frame's spatial estimate alone, nothing is learned between frames, and the "
+            "level is set from the frame's own noise and brightest fingertip");
   v.Real("background_learning", p.backgroundLearning, 0, 3600, "s",
          "time constant with which the background follows the frames where nothing touches "
          "(slow light changes, things left on the table); 0 keeps it fixed");

@@ -61,10 +61,6 @@ MaybeError CheckSensingParams(const SensingParams& params) {
   return CheckDescribed("sensing", params);
 }
 
-// how much brighter than the median a block of the first frame must be to count as covered by a
-// hand when the background is estimated, 8-bit grey
-constexpr double kCoveredMargin = 30.0;
-
 // Gives `image` a buffer of its own if it shares one of `upstream`'s (a stage that changed
 // nothing showed its input), so that writing it leaves them alone.
 void Unshare(cv::Mat& image, std::initializer_list<const cv::Mat*> upstream) {
@@ -146,71 +142,6 @@ cv::Mat OpeningKernel(int radius) {
   return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
 }
 
-cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin) {
-  assert(frame.type() == CV_8UC1 && "background estimate needs an 8-bit grey frame");
-  constexpr int kBlock = 32;  // px
-  const int bw = (frame.cols + kBlock - 1) / kBlock;
-  const int bh = (frame.rows + kBlock - 1) / kBlock;
-  cv::Mat level(bh, bw, CV_32F);
-  // lower quartile of each block: the background unless a contact covers most of the block
-  for (int by = 0; by < bh; ++by) {
-    for (int bx = 0; bx < bw; ++bx) {
-      const cv::Rect r(bx * kBlock, by * kBlock, std::min(kBlock, frame.cols - bx * kBlock),
-                       std::min(kBlock, frame.rows - by * kBlock));
-      std::array<int, 256> hist{};
-      for (int y = r.y; y < r.y + r.height; ++y) {
-        const uint8_t* row = frame.ptr<uint8_t>(y);
-        for (int x = r.x; x < r.x + r.width; ++x) ++hist[row[x]];
-      }
-      const int quarter = r.area() / 4;
-      int seen = 0, value = 0;
-      while (value < 255 && seen + hist[value] <= quarter) seen += hist[value++];
-      level.at<float>(by, bx) = static_cast<float>(value);
-    }
-  }
-  // blocks much brighter than the median are covered: fill them from their clear neighbours
-  std::vector<float> sorted(level.begin<float>(), level.end<float>());
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const float median = sorted[sorted.size() / 2];
-  cv::Mat known(bh, bw, CV_8UC1);
-  for (int i = 0; i < bh * bw; ++i)
-    known.at<uint8_t>(i) = level.at<float>(i) <= median + coveredMargin ? 1 : 0;
-  for (int pass = 0; pass < bw + bh; ++pass) {
-    bool changed = false;
-    cv::Mat nextKnown = known.clone();
-    for (int by = 0; by < bh; ++by) {
-      for (int bx = 0; bx < bw; ++bx) {
-        if (known.at<uint8_t>(by, bx)) continue;
-        float sum = 0.0f;
-        int n = 0;
-        for (const cv::Point d :
-             {cv::Point(1, 0), cv::Point(-1, 0), cv::Point(0, 1), cv::Point(0, -1)}) {
-          const int x = bx + d.x, y = by + d.y;
-          if (x < 0 || y < 0 || x >= bw || y >= bh || !known.at<uint8_t>(y, x)) continue;
-          sum += level.at<float>(y, x);
-          ++n;
-        }
-        if (n > 0) {
-          level.at<float>(by, bx) = sum / n;
-          nextKnown.at<uint8_t>(by, bx) = 1;
-          changed = true;
-        }
-      }
-    }
-    known = nextKnown;
-    if (!changed) break;
-  }
-  // nothing clear at all: fall back to the median everywhere
-  for (int i = 0; i < bh * bw; ++i)
-    if (!known.at<uint8_t>(i)) level.at<float>(i) = median;
-
-  cv::Mat full;
-  cv::resize(level, full, cv::Size(bw * kBlock, bh * kBlock), 0, 0, cv::INTER_LINEAR);
-  cv::Mat out;
-  full(cv::Rect(0, 0, frame.cols, frame.rows)).convertTo(out, CV_8UC1);
-  return out;
-}
-
 MaybeError Sensor::Configure(const SensingParams& params, const TableParams& table,
                              cv::Size imageSize) {
   if (params.calibration.empty())
@@ -283,6 +214,9 @@ MaybeError Sensor::SetBackground(const cv::Mat& background) {
 void Sensor::ForgetLearned() {
   m_learned.release();
   m_warmup = false;
+  m_spatial.release();
+  m_lowMean.release();
+  m_lowest.release();
   m_captureSum.release();
   m_captured = 0;
   m_noise = -1.0;
@@ -321,6 +255,13 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   else
     cv::cvtColor(frame, m_grey, type == CV_8UC3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
 
+  // a still is sensed on its own: nothing from the frames before it
+  if (m_params.stills) {
+    m_background.release();
+    ForgetLearned();
+    m_haveTime = false;
+  }
+
   // background: loaded or set, else averaged over the first frames, else estimated from this one
   if (m_background.empty()) {
     if (m_params.backgroundFrames > 0) {
@@ -332,44 +273,70 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
       }
       return out;
     }
-    // an estimate that the warm-up then refines
-    m_background = EstimateBackground(m_grey, kCoveredMargin);
+    // An estimate at the scale of a hand, without the fingertips and hands on the table now;
+    // the warm-up then takes in what is static from the start (EstimateBackground).
+    m_spatial = EstimateBackground(m_grey, PixelsPerCm());
+    m_background = m_spatial.clone();
+    m_grey.convertTo(m_lowMean, CV_32F);
+    m_lowest = m_lowMean.clone();
+    m_startTime = time;
     m_warmup = true;
   }
+  const double frameDt = m_haveTime ? time - m_lastTime : 0.0;
+  if (m_params.thresholdMode == ThresholdMode::kAdaptive) MeasureNoise(frameDt);
 
-  // The adaptive level: a fraction of the brightest touch the table has shown lately, but at
-  // least noise_factor deviations of the camera noise and at most the fixed threshold. Until the
-  // noise is measured (an estimated background's warm-up), the fixed threshold. The filter works
-  // out where a pixel could pass the level with the brightest touch as remembered; the frame's
-  // own brightest pixel above that level can only raise it.
+  // The adaptive level: a fraction of the brightest fingertip-like touch the table has shown
+  // lately (BrightestTipAbove), at least noise_factor deviations of the camera noise and at most
+  // the fixed threshold, from the first frame on. Until a touch has been seen, the threshold for
+  // a second and then falling by a factor e a second to the noise floor: a table whose touches
+  // are bright but not yet seen does not show its glows meanwhile. The filter works out where a
+  // pixel could pass the noise floor (or, once the remembered touch holds the level at the
+  // threshold, the threshold: a brighter touch could not raise it further).
   double level = m_params.threshold;
   const bool adaptive = m_params.thresholdMode == ThresholdMode::kAdaptive && m_noise >= 0.0;
-  double remembered = 0.0, falling = 0.0;
+  double remembered = 0.0, falling = m_params.threshold, probe = level;
+  bool capped = false;
   if (adaptive) {
-    // It starts at the fixed threshold and comes down by at most a factor e a second: a table
-    // whose touches are bright but not yet seen (they were absorbed by the warm-up and have not
-    // moved) does not show its glows meanwhile.
     if (m_level < 0.0) {
       m_level = m_params.threshold;
+      m_falling = m_params.threshold;
+      m_fallStart = time;
       m_brightestTime = time;
     }
+    constexpr double kLevelHold = 1.0;  // s at the threshold before it falls
+    constexpr double kLevelFall = 1.0;  // s, its time constant
+    const double held = time - m_fallStart - kLevelHold;
+    if (held > 0.0) falling = m_params.threshold * std::exp(-held / kLevelFall);
     const double dt = std::max(0.0, time - m_brightestTime);
-    constexpr double kLevelFall = 1.0;  // s
-    falling = std::min(m_params.threshold, m_level * std::exp(-dt / kLevelFall));
     remembered = m_brightest * std::exp(-dt / m_params.contrastMemory);
-    level = std::max(falling, AdaptiveLevel(remembered));
+    capped = m_params.contrastFraction * remembered >= m_params.threshold;
+    if (capped)
+      probe = AdaptiveLevel(remembered);
+    else if (m_params.stills || !WarmingUp())
+      probe = AdaptiveLevel(0.0);
+    else
+      probe = remembered > 0.0
+                  ? AdaptiveLevel(remembered)
+                  : std::max(std::min(falling, m_params.threshold), AdaptiveLevel(0.0));
   }
 
   // the whole frame's stages when they are looked at, and where the threshold reads them all
-  Filter(m_wholeStages || wantTableImage || m_params.thresholdMode == ThresholdMode::kAuto, level);
+  Filter(m_wholeStages || wantTableImage || m_params.thresholdMode == ThresholdMode::kAuto,
+         adaptive ? probe : level);
 
   if (adaptive) {
-    // A table whose remembered touch already holds the level at the threshold needs no new one
-    // (a brighter touch could only raise it further); it is looked for again once that fades.
-    const bool capped = m_params.contrastFraction * remembered >= m_params.threshold;
-    m_brightest = capped ? remembered : std::max(remembered, BrightestAbove(level));
+    // The frame's own brightest touch counts at once, and is remembered, once the background
+    // has warmed up. Before, against the spatial estimate, the table's own fingertip-sized
+    // marks look like touches (hard-5point.avi's streaks, 90 grey above it): a camera's first
+    // 0.2 s are left at the threshold, while a still, which has no later frames, takes its
+    // level from them.
+    const bool evidence = m_params.stills || !WarmingUp();
+    const double seen = capped || !evidence ? 0.0 : BrightestTipAbove(probe);
+    const double brightest = std::max(remembered, seen);
+    m_brightest = WarmingUp() ? remembered : brightest;
     m_brightestTime = time;
-    level = std::max(falling, AdaptiveLevel(m_brightest));
+    level = brightest > 0.0 ? AdaptiveLevel(brightest)
+                            : std::max(std::min(falling, m_params.threshold), AdaptiveLevel(0.0));
     m_level = level;
   }
 
@@ -395,8 +362,7 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
   }
 
   ExtractBlobs(out.blobs);
-  const double dt = LearnBackground(time);
-  if (m_params.thresholdMode == ThresholdMode::kAdaptive && !WarmingUp()) MeasureNoise(dt);
+  LearnBackground(time);
 
   if (wantTableImage) {
     if (m_tableMapX.empty()) BuildTableMaps();
@@ -458,49 +424,33 @@ void Sensor::MeasureNoise(double dt) {
     below += counts[v];
   }
   const double sigma = median / 0.6745;
-  // The first second after the background is seeded (or warmed up) is averaged before the level
-  // adapts: a compressed video copies still blocks from frame to frame, so the frames just after
-  // a warm-up share their noise with the background and show less of it. After that, smoothed
-  // over about a second, so the level does not flicker with the frames.
+  // Against an estimated background still warming up (the spatial estimate: the table's own
+  // pattern is in the differences), each frame's value on its own: it can only be too high. After
+  // that, the first second after the background is seeded (or warmed up) is averaged, the mean so
+  // far standing meanwhile: a compressed video copies still blocks from frame to frame, so the
+  // frames just after a warm-up share their noise with the background and show less of it. Then
+  // smoothed over about a second, so the level does not flicker with the frames.
   constexpr double kNoiseTime = 1.0;  // s
-  if (m_noiseTime < kNoiseTime) {
+  if (WarmingUp()) {
+    m_noise = sigma;
+    m_noiseSum = 0.0;
+    m_noiseFrames = 0;
+    m_noiseTime = 0.0;
+  } else if (m_noiseTime < kNoiseTime) {
     m_noiseSum += sigma;
     ++m_noiseFrames;
     m_noiseTime += std::max(0.0, dt);
-    if (m_noiseTime >= kNoiseTime) m_noise = m_noiseSum / m_noiseFrames;
+    m_noise = m_noiseSum / m_noiseFrames;
   } else if (dt > 0.0) {
     m_noise += (1.0 - std::exp(-dt / kNoiseTime)) * (sigma - m_noise);
   }
 }
 
-double Sensor::BrightestAbove(double level) const {
-  // The brightest touch: a 3x3 mean near the brightest pixel (one pixel's value adds the noise's
-  // peak), each pixel counted only above `level`. Every pixel above `level` lies
-  // where the filter worked, and has the same value there as in the whole frame; below it, the
-  // whole frame and its worked areas differ (0 outside the areas), so those count as 0. Of equal
-  // pixels the first in raster order (lowest row, then column) is taken, in a whole frame as
-  // over areas.
-  double best = 0.0;
-  cv::Point at(-1, -1);
-  const auto consider = [&](const cv::Rect& r) {
-    double hi = 0.0;
-    cv::Point loc;
-    cv::minMaxLoc(m_normalized(r), nullptr, &hi, nullptr, &loc);
-    loc += r.tl();
-    if (hi > best ||
-        (hi == best && hi > 0.0 && (loc.y < at.y || (loc.y == at.y && loc.x < at.x)))) {
-      best = hi;
-      at = loc;
-    }
-  };
-  if (m_areasOnly) {
-    for (const cv::Rect& r : m_areas) consider(r);
-  } else {
-    consider(cv::Rect(0, 0, m_normalized.cols, m_normalized.rows));
-  }
-  if (!(best > level)) return 0.0;
-  // the highest 3x3 mean centred on that pixel or one of its 8 neighbours: the first of a
-  // flat-topped touch's brightest pixels lies on its rim, and the mean there reads the edge
+double Sensor::PeakAround(cv::Point at, double level) const {
+  // The highest 3x3 mean centred on `at` or one of its 8 neighbours, each pixel counted only
+  // above `level` (one pixel's value adds the noise's peak): the first of a flat-topped touch's
+  // brightest pixels lies on its rim, and the mean there reads the edge. Every pixel above
+  // `level` lies where the filter worked, with the whole frame's value there.
   const int rows = m_normalized.rows, cols = m_normalized.cols;
   const auto value = [&](int x, int y) -> double {
     if (x < 0 || y < 0 || x >= cols || y >= rows) return 0.0;
@@ -517,6 +467,62 @@ double Sensor::BrightestAbove(double level) const {
     }
   }
   return highest;
+}
+
+bool Sensor::TipLike(cv::Point at, double peak) const {
+  // A fingertip is about 1.5 cm across: on a circle 3 cm across around its brightest pixel, most
+  // of the points lie on the table (a finger's own length, and a neighbour or two pressed
+  // against it, cover the rest). Inside a palm, a hot spot of the illuminator or a glow (all
+  // wider than 3 cm) the whole circle is bright; a touch is "fingertip-like" when at least 5 of
+  // 16 points read under half its peak. Points beyond the image count as bright.
+  constexpr double kRingCm = 1.5;  // radius
+  constexpr int kPoints = 16, kTableAtLeast = 5;
+  const double r = kRingCm * PixelsPerCm();
+  int table = 0;
+  for (int k = 0; k < kPoints; ++k) {
+    const double a = 2.0 * kPi * k / kPoints;
+    const int x = static_cast<int>(std::lround(at.x + r * std::cos(a)));
+    const int y = static_cast<int>(std::lround(at.y + r * std::sin(a)));
+    if (x < 0 || y < 0 || x >= m_normalized.cols || y >= m_normalized.rows) continue;
+    if (m_normalized.ptr<uint8_t>(y)[x] < 0.5 * peak) ++table;
+  }
+  return table >= kTableAtLeast;
+}
+
+double Sensor::BrightestTipAbove(double level) {
+  // The brightest pixel of each 64 x 32 px tile where the filter worked, brightest first; the
+  // first of them that is fingertip-like gives the touch (its 3x3 peak). Sixteen are tried: a
+  // frame's hot spots, palms and glows hold at most a few tiles' maxima each before a fingertip's.
+  constexpr int kTileRows = 32, kTileCols = 64, kTries = 16;
+  m_candidates.clear();
+  const auto scan = [&](const cv::Rect& area) {
+    for (int y = area.y; y < area.y + area.height; y += kTileRows) {
+      for (int x = area.x; x < area.x + area.width; x += kTileCols) {
+        const cv::Rect tile = cv::Rect(x, y, kTileCols, kTileRows) & area;
+        double hi = 0.0;
+        cv::Point loc;
+        cv::minMaxLoc(m_normalized(tile), nullptr, &hi, nullptr, &loc);
+        if (hi > level) m_candidates.emplace_back(static_cast<uint8_t>(hi), loc + tile.tl());
+      }
+    }
+  };
+  if (m_areasOnly) {
+    for (const cv::Rect& r : m_areas) scan(r);
+  } else {
+    scan(cv::Rect(0, 0, m_normalized.cols, m_normalized.rows));
+  }
+  // brightest first; of equal ones the first in raster order (the same in a whole frame as over
+  // areas)
+  std::sort(m_candidates.begin(), m_candidates.end(), [](const auto& a, const auto& b) {
+    if (a.first != b.first) return a.first > b.first;
+    return a.second.y != b.second.y ? a.second.y < b.second.y : a.second.x < b.second.x;
+  });
+  const int tries = std::min<int>(kTries, static_cast<int>(m_candidates.size()));
+  for (int i = 0; i < tries; ++i) {
+    const double peak = PeakAround(m_candidates[i].second, level);
+    if (peak > level && TipLike(m_candidates[i].second, peak)) return peak;
+  }
+  return 0.0;
 }
 
 void Sensor::Filter(bool whole, double level) {
@@ -681,13 +687,21 @@ double Sensor::LearnBackground(double time) {
     m_bandsStarted = false;
   }
   m_learnedTime += dt;
-  if (WarmingUp()) {
-    // warm-up: the background converges on the frames everywhere (what is static from the start,
-    // like an illuminator's hot spot, is background; a touch there heals once lifted)
-    const double alpha = 1.0 - std::exp(-dt / (m_params.backgroundWarmup / 3.0));
-    cv::accumulateWeighted(m_grey, m_learned, alpha);
-    m_learned.convertTo(m_background, CV_8UC1);
-    return dt;
+  if (!m_lowest.empty() && !(m_params.backgroundWarmup > 0.0)) {
+    // no warm-up: the spatial estimate alone
+    m_lowMean.release();
+    m_lowest.release();
+  }
+  if (!m_lowest.empty()) {
+    // Warm-up: the spatial estimate stays the background while each pixel's lowest running mean
+    // (time constant a third of the warm-up: the camera noise averaged over a few frames) is
+    // kept. What is static from the start, like an illuminator's hot spot, is that bright all
+    // along; where a hand moved away the table showed. At its end that is the background.
+    const double alpha = 1.0 - std::exp(-dt / std::max(1e-3, m_params.backgroundWarmup / 3.0));
+    cv::accumulateWeighted(m_grey, m_lowMean, alpha);
+    cv::min(m_lowest, m_lowMean, m_lowest);
+    if (WarmingUp()) return dt;
+    FinishWarmup();
   }
   if (m_params.backgroundLearning <= 0.0) {
     // learning is off: when it comes back on, the time it was off is not learned
@@ -738,9 +752,68 @@ double Sensor::LearnBackground(double time) {
     cv::accumulateWeighted(m_grey(cv::Range(r0, r1), cols), learned,
                            1.0 - std::exp(-touchDt / m_params.touchLearning), still);
   }
+  SettleDark(r0, r1, bandDt);
   cv::Mat background = m_background(cv::Range(r0, r1), cols);
   learned.convertTo(background, CV_8UC1);
   return dt;
+}
+
+void Sensor::FinishWarmup() {
+  // The lowest running mean, but never more than 2 noise deviations below the spatial estimate:
+  // a shadow that lay on the table all through the warm-up (a hand hovering in ambient light) is
+  // darker than the table, and learned it would read as a touch once it goes. The spatial
+  // estimate is the table's level within its blocks' noise (a median of a few hundred pixels);
+  // 2 deviations leave a spot that read darker than it at most 2 deviations bright afterwards,
+  // under the noise floor of the level (noise_factor 5).
+  // The lowest of a running mean lies below its mean by the mean's own noise (about one of its
+  // deviations over a 0.2 s warm-up at 60 Hz): where nothing moved the difference between the
+  // last running mean and its lowest is that offset and nothing else, and most of a table is such,
+  // so their median (a sample of every 8th pixel of every 8th row) is added back.
+  std::vector<float> offsets;
+  offsets.reserve(static_cast<size_t>((m_lowest.rows / 8 + 1) * (m_lowest.cols / 8 + 1)));
+  for (int y = 4; y < m_lowest.rows; y += 8) {
+    const float* mean = m_lowMean.ptr<float>(y);
+    const float* low = m_lowest.ptr<float>(y);
+    for (int x = 4; x < m_lowest.cols; x += 8) offsets.push_back(mean[x] - low[x]);
+  }
+  if (!offsets.empty()) {
+    std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
+    m_lowest += offsets[offsets.size() / 2];
+  }
+  const double kRounding = std::sqrt(2.0 / 12.0);
+  const double margin = 2.0 * std::max(m_noise, kRounding);
+  cv::Mat floor;
+  m_spatial.convertTo(floor, CV_32F, 1.0, -margin);
+  cv::max(m_lowest, floor, m_learned);
+  m_learned.convertTo(m_background, CV_8UC1);
+  m_lowMean.release();
+  m_lowest.release();
+}
+
+void Sensor::SettleDark(int r0, int r1, double bandDt) {
+  // For background_settle seconds after the warm-up: a hand that lay still through the warm-up
+  // is in the background, and where it has moved away the frame reads darker than the background
+  // by its contrast. There the background comes down fast (time constant kDarkTime), never below
+  // the first frame's spatial estimate less 2 noise deviations (FinishWarmup): a hovering hand's
+  // shadow, darker than the table, is not learned below the table. Pixels darker by more than 3
+  // deviations only: the noise alone does that once in 740 frames, so the background is not
+  // pulled down by it.
+  if (m_spatial.empty() || !(m_params.backgroundSettle > 0.0) || !m_lowest.empty()) return;
+  if (m_lastTime - m_startTime > m_params.backgroundWarmup + m_params.backgroundSettle) return;
+  constexpr double kDarkTime = 0.25;  // s
+  const double kRounding = std::sqrt(2.0 / 12.0);
+  const float noise = static_cast<float>(std::max(m_noise, kRounding));
+  const float alpha = static_cast<float>(1.0 - std::exp(-bandDt / kDarkTime));
+  for (int y = r0; y < r1; ++y) {
+    const uint8_t* g = m_grey.ptr<uint8_t>(y);
+    const uint8_t* sp = m_spatial.ptr<uint8_t>(y);
+    float* b = m_learned.ptr<float>(y);
+    for (int x = 0; x < m_grey.cols; ++x) {
+      if (g[x] + 3.0f * noise >= b[x]) continue;
+      const float target = std::max(static_cast<float>(g[x]), sp[x] - 2.0f * noise);
+      if (target < b[x]) b[x] += alpha * (target - b[x]);
+    }
+  }
 }
 
 const cv::Mat& Sensor::StageImage(SensingStage stage) const {

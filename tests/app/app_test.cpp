@@ -376,15 +376,18 @@ TEST_F(AppTest, LiveParameterChangesKeepTheRunningLevel) {
   const int particles = app.simulation().stats().particles;
   ASSERT_GT(particles, 5);
 
-  // a threshold above the fingertip's brightness, and a tracking distance
+  // a fixed threshold above the fingertip's brightness (the adaptive level would take 0.3 of
+  // its contrast, under this ceiling), and a tracking distance
   LevelParams params = app.simulation().params();
+  params.sensing.thresholdMode = ThresholdMode::kFixed;
   params.sensing.threshold = 200.0;
   params.tracking.maxDistance = 1.5;
   params.tracking.keepLost = 0;  // an unseen contact is lifted at once
   app.RequestParams(params);
   ASSERT_TRUE(app.Tick());
   EXPECT_EQ(app.tuneStatus(),
-            "applied live: sensing.threshold, tracking.max_distance, tracking.keep_lost");
+            "applied live: sensing.threshold_mode, sensing.threshold, tracking.max_distance, "
+            "tracking.keep_lost");
   EXPECT_EQ(app.runError(), "");
   // the run was not restarted: same frame, the world bit for bit as it was
   EXPECT_EQ(app.simulation().Frame(), frame);
@@ -392,7 +395,9 @@ TEST_F(AppTest, LiveParameterChangesKeepTheRunningLevel) {
   EXPECT_EQ(app.simulation().params().sensing.threshold, 200.0);
   EXPECT_EQ(app.simulation().params().tracking.maxDistance, 1.5);
   const std::string toml = app.ChangedParamsToml();
-  EXPECT_NE(toml.find("[sensing]\nthreshold = 200\n"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("[sensing]\nthreshold_mode = \"fixed\"\nthreshold = 200\n"),
+            std::string::npos)
+      << toml;
 
   // and the running pipeline uses it: the fingertip is no longer seen, its particles end
   app.RequestPause(false);

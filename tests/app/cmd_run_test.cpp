@@ -57,8 +57,22 @@ TEST(RunCommand, BadSetExitsTwo) {
   EXPECT_THAT(noEq.output, HasSubstr("section.key=value"));
 }
 
+TEST(RunCommand, ALevelNameIsFoundInTheSourceTreeOfTheBuildFolder) {
+  // the tests run in build/<preset>/tests, which has no levels/: the command, at the top of its
+  // build folder, finds the name in the source tree's levels (app/level_search.h)
+  auto r = RunProxygrasp("run side_push");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("=> PASS"));
+  r = RunProxygrasp("run side_psuh");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("level side_psuh: not a file, and no side_psuh.toml in "));
+  EXPECT_THAT(r.output, HasSubstr("did you mean 'side_push'?"));
+}
+
 TEST(RunCommand, MissingFileAndBadModeExitTwo) {
-  EXPECT_EQ(RunProxygrasp("run /nonexistent/level.toml").exitCode, 2);
+  const auto missing = RunProxygrasp("run /nonexistent/level.toml");
+  EXPECT_EQ(missing.exitCode, 2);
+  EXPECT_THAT(missing.output, HasSubstr("level /nonexistent/level.toml: no such file"));
   EXPECT_EQ(RunProxygrasp("run " + Level("side_push.toml") + " --mode sideways").exitCode, 2);
 }
 

@@ -1,5 +1,6 @@
 proxygrasp_tests(app
-  TESTS main cmd_params cmd_run cmd_sense cmd_calibrate cmd_tune table_view hand_input video cmd_bench)
+  TESTS main cmd_params cmd_run cmd_sense cmd_calibrate cmd_tune table_view hand_input video cmd_bench
+        level_search)
 # The window tests (app_test.cpp and cmd_play_test.cpp, in their own executable because their
 # process environment differs) open an SDL2 window on Xvfb. Under the sanitizers they run with leak detection
 # on, with keep_loaded.cpp preloaded (libraries loaded at run time stay mapped, so their memory is

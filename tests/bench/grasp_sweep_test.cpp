@@ -219,6 +219,123 @@ TEST(GraspRule, ACarryAcrossAPinchedRoundSliceLosesWhatTheTiltingNormalsTakeBack
   EXPECT_NEAR(p.margin, 0.8 * p.normalForce * (1.0 - dbar / rho) / p.requirement, 1e-9 * p.margin);
 }
 
+// A thumb on a cylinder's -x side against two fingertips on its +x side that part after a slow
+// carry (a split), contours `depth` inside, the pieces' centres going from `from` to `to` either
+// side of the axis.
+GraspScene SplitAfterACarry(double radius, double depth, double from, double to) {
+  GraspScene s;
+  s.object = Cylinder(radius, 100.0);
+  s.object.tableStatic = 0.3;
+  s.object.tableKinetic = 0.25;
+  s.object.particleFriction = 0.8;
+  s.depth = depth;
+  s.topology = GraspTopology::kSplit;
+  const double fingerRadius = 0.8, x = radius + fingerRadius - depth;
+  GraspFinger thumb;
+  thumb.radius = fingerRadius;
+  thumb.inward = Vec2(1.0, 0.0);
+  thumb.pos = Vec2(-x, 0.0);
+  s.fingers = {thumb};
+  s.fingersAfter = {thumb};
+  for (double side : {-1.0, 1.0}) {
+    GraspFinger f;
+    f.radius = fingerRadius;
+    f.inward = Vec2(-1.0, 0.0);
+    f.pos = Vec2(x, side * from);
+    s.fingers.push_back(f);
+    f.pos = Vec2(x, side * to);
+    s.fingersAfter.push_back(f);
+  }
+  SetCarry(s, Vec2(0.0, 1.0), 8.0, 5.0, Vec2(30.5, 20.0));
+  s.eventStart = s.moveEnd + 0.1;
+  s.eventEnd = s.eventStart + 0.2;
+  s.duration = s.eventEnd + 0.5;
+  return s;
+}
+
+TEST(GraspRule, AFingertipSlidingRoundARoundSliceFarEnoughToTurnItPastFiveDegreesIsNotScored) {
+  // Fingertips that slide over a round slice press it through its centre: their normal forces
+  // give it no torque, and their friction turns it by mu_p (N_a - N_b) rho. The piece that
+  // presses harder holds the surface and the slice turns with it, at most as far as that piece
+  // goes round it: the change of its centre's bearing, atan(to / x) - atan(from / x). Which piece
+  // presses harder depends on where the object sits in the grip, which the rule does not model:
+  // from 5 degrees on the rule does not say that the grip holds (docs/physics.md, "A slide over a
+  // round slice").
+  const PhysicsParams physics;
+  // radius 2, contours 0.5 cm inside: x = 2.3; the pieces go from 0.7 to 1.2 cm off the axis,
+  // atan(1.2 / 2.3) - atan(0.7 / 2.3) = 10.6 degrees round
+  const GraspScene small = SplitAfterACarry(2.0, 0.5, 0.7, 1.2);
+  const GraspPrediction p = PredictGrasp(small, physics, 0.3);
+  EXPECT_NEAR(RadToDeg(p.slideTurn), RadToDeg(std::atan(1.2 / 2.3) - std::atan(0.7 / 2.3)), 1e-9);
+  EXPECT_TRUE(p.canHold);  // the grip itself holds the slow carry
+  EXPECT_GT(p.margin, 1.0 + 0.2);
+  EXPECT_TRUE(p.nearBoundary);
+  // radius 6 and a shorter slide (0.7 to 0.9 cm, x = 6.3): 1.8 degrees round, scored
+  const GraspPrediction wide = PredictGrasp(SplitAfterACarry(6.0, 0.5, 0.7, 0.9), physics, 0.3);
+  EXPECT_NEAR(RadToDeg(wide.slideTurn), RadToDeg(std::atan(0.9 / 6.3) - std::atan(0.7 / 6.3)),
+              1e-9);
+  EXPECT_TRUE(wide.canHold);
+  EXPECT_FALSE(wide.nearBoundary);
+  // the same slide on a box's flat face: its normal forces hold the box's angle, nothing turns
+  GraspScene box = small;
+  box.object = Box(4.6, 4.6, 100.0);
+  box.object.tableStatic = 0.3;
+  box.object.tableKinetic = 0.25;
+  box.object.particleFriction = 0.8;
+  box.object.pose.pos = small.object.pose.pos;
+  const GraspPrediction flat = PredictGrasp(box, physics, 0.3);
+  EXPECT_EQ(flat.slideTurn, 0.0);
+  EXPECT_GT(flat.margin, 1.0 + 0.2);
+  EXPECT_FALSE(flat.nearBoundary);
+  // a grip that cannot hold still cannot: the slide does not move it to the boundary
+  GraspScene heavy = small;
+  heavy.object.mass = 5000.0;
+  const GraspPrediction lost = PredictGrasp(heavy, physics, 0.3);
+  EXPECT_FALSE(lost.canHold);
+  EXPECT_LT(lost.margin, 0.8);
+  EXPECT_FALSE(lost.nearBoundary);
+}
+
+TEST(GraspRule, ATurnStepCatchesUpWithinTheLagTheGripHoldsElasticallyNotOnlyFiveDegrees) {
+  // Ninth revision. Two fingertips pinch a 4 cm box of 300 g (contours 0.4 cm inside, mu_p 0.8)
+  // and turn it at a constant 120 degrees/s from the first frame. The box breaks loose at the lag
+  // eps0 where the grip's torque C reaches static friction T_s, catches up while C - T_k gives it
+  // 1/2 I omega^2, and once the grip stops comes to rest where static friction holds it against
+  // the grip: at most eps0 behind. A lag the grip holds elastically is given back, so the lag
+  // reached while catching up may pass 5 degrees: on a flat face C keeps rising with the lag (the
+  // normal forces' couple), and the rule lets the catch-up run to the elastic lag plus the 5
+  // degrees less eps0 the box may keep. Static friction is set so that C(5 deg) = 1.3 T_s: the
+  // box breaks loose within 5 degrees. Then the step needs only what a slow turn needs, and its
+  // margin is the slow turn's, C(5 deg) / T_s (a bang-bang turn of 1 degree/s over 90 degrees,
+  // I alpha negligible). Before this revision the catch-up had to end within 5 degrees: the
+  // energy from eps0 to 5 degrees caught up with 111 degrees/s, and the margin fell to 0.92.
+  const PhysicsParams physics;
+  GraspScene slow = OpposedBoxScene(0.4, 0.8);
+  slow.motion = GraspMotion::kTurn;
+  slow.turn = DegToRad(90.0);
+  slow.turnRate = DegToRad(1.0);
+  slow.object.mass = 300.0;
+  slow.object.tableStatic = 1.0;
+  slow.object.tableKinetic = 0.8;
+  const GraspPrediction first = PredictGrasp(slow, physics, 0.3);
+  const double torque5 = first.capacity;  // C(5 deg), dyn cm
+  const double staticTorque = torque5 / 1.3;
+  slow.object.tableStatic *= staticTorque / first.requirement;
+  slow.object.tableKinetic = 0.8 * slow.object.tableStatic;
+  const GraspPrediction bang = PredictGrasp(slow, physics, 0.3);
+  EXPECT_NEAR(bang.requirement, staticTorque, 1e-6 * staticTorque);
+  EXPECT_NEAR(bang.margin, 1.3, 1e-6);
+  GraspScene step = slow;
+  step.profile = GraspProfile::kStep;
+  step.turnRate = DegToRad(120.0);
+  const GraspPrediction p = PredictGrasp(step, physics, 0.3);
+  EXPECT_GT(p.catchUpSpeed, 1.3 * step.turnRate);
+  EXPECT_GT(p.stopSpeed, 1.3 * step.turnRate);
+  EXPECT_NEAR(p.margin, bang.margin, 1e-9);
+  EXPECT_TRUE(p.canHold);
+  EXPECT_FALSE(p.nearBoundary);
+}
+
 // How many of a fingertip's contour points press a flat face.
 double FlatFacePressingPoints(const PhysicsParams& physics, double spacing, double radius,
                               double depth) {
@@ -586,11 +703,20 @@ TEST(GraspSweep, AnObliqueCarryTheGripCanOnlyBreakLooseAsAWholeIsCarried) {
 }
 
 // what is drawn among the first scenes of seed 1 with every class
+// The generator's scenes checked one by one. The rule runs on each of them, which the sanitizers
+// slow 15-fold (85 s of the sanitizer phase for 400 scenes): that build checks the first 160 for
+// memory errors and the same bounds, scaled, while the Release build checks all 400.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr int kGeneratorScenes = 160;
+#else
+constexpr int kGeneratorScenes = 400;
+#endif
+
 TEST(GraspSweep, TheGeneratorMakesEveryClassAndKeepsTheScenesBeforeIssue42) {
   const LevelParams defaults;
   int topology[4] = {0, 0, 0, 0}, steps = 0, mergingPushes = 0, doubledCages = 0, roundPairs = 0;
   std::map<std::string, int> phases;
-  for (int i = 0; i < 400; ++i) {
+  for (int i = 0; i < kGeneratorScenes; ++i) {
     const GraspScene s = GenerateGraspScene(1, i, GraspClasses{});
     ++topology[static_cast<int>(s.topology)];
     steps += s.profile == GraspProfile::kStep ? 1 : 0;
@@ -640,12 +766,17 @@ TEST(GraspSweep, TheGeneratorMakesEveryClassAndKeepsTheScenesBeforeIssue42) {
     ASSERT_GE(p.margin, 0.0) << "scene " << i;
     ASSERT_GE(p.marginMax, p.margin) << "scene " << i;
   }
-  for (int t = 0; t < 4; ++t) EXPECT_GT(topology[t], 40) << kGraspTopologyNames[t];
-  EXPECT_GT(steps, 100);
-  EXPECT_GT(mergingPushes, 3);
-  EXPECT_GT(doubledCages, 3);
-  EXPECT_GT(roundPairs, 10);
-  for (const char* phase : {"before", "during", "after"}) EXPECT_GT(phases[phase], 15) << phase;
+  // the bounds of the 400 scenes, scaled to the scenes checked (well below what the class shares
+  // give: merge, split and merged are 20% each, steps 40%)
+  const double per400 = kGeneratorScenes / 400.0;
+  for (int t = 0; t < 4; ++t) EXPECT_GT(topology[t], 40 * per400) << kGraspTopologyNames[t];
+  EXPECT_GT(steps, 100 * per400);
+  EXPECT_GT(mergingPushes, 3 * per400);
+  EXPECT_GT(doubledCages, 3 * per400);
+  EXPECT_GT(roundPairs, 10 * per400);
+  for (const char* phase : {"before", "during", "after"}) {
+    EXPECT_GT(phases[phase], 15 * per400) << phase;
+  }
   // the classes before issue 42 alone draw exactly its scenes
   EXPECT_EQ(GraspSceneToml(GenerateGraspScene(3, 7, GraspClasses::Legacy()), {}),
             GraspSceneToml(GenerateGraspScene(3, 7), {}));

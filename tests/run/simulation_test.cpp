@@ -217,14 +217,17 @@ TEST(Simulation, RetuneChangesTheSensorInPlace) {
   ASSERT_EQ(sim.stats().contacts, 2);
   const RunState before = StateOf(sim);
 
-  // a threshold above full contact (220 grey on a 40 grey table) sees nothing
+  // a fixed threshold above full contact (220 grey on a 40 grey table) sees nothing (the
+  // adaptive level would take 0.3 of the touches' contrast, under this ceiling)
   LevelParams params = sim.params();
+  params.sensing.thresholdMode = ThresholdMode::kFixed;
   params.sensing.threshold = 200.0;
   params.sensing.morphology = 2;
   Result<RetuneReport> report = sim.Retune(params);
   ASSERT_TRUE(report.ok()) << report.error().Format();
   EXPECT_EQ(report.value().live,
-            (std::vector<std::string>{"sensing.threshold", "sensing.morphology"}));
+            (std::vector<std::string>{"sensing.threshold_mode", "sensing.threshold",
+                                      "sensing.morphology"}));
   EXPECT_EQ(StateOf(sim), before);
   // the tracker keeps the unseen fingertips where they were for keep_lost (3) frames, then
   // lifts them

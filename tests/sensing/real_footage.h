@@ -130,9 +130,12 @@ inline bool RunClip(const std::string& dir, const LabelledClip& clip, const Sens
   const std::string path = dir + "/" + clip.path;
   Sensor sensor;
   if (clip.IsStill()) {
+    // a still is sensed on its own (SensingParams::stills)
     const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
     if (image.empty()) return false;
-    if (sensor.Configure(params, ClipTable(clip, image.size()),
+    SensingParams still = params;
+    still.stills = true;
+    if (sensor.Configure(still, ClipTable(clip, image.size()),
                          LinearCalibration(image.size(), ClipTable(clip, image.size())), path))
       return false;
     Result<ContourFrame> r = sensor.Step(image, 0, 0.0);
@@ -156,6 +159,54 @@ inline bool RunClip(const std::string& dir, const LabelledClip& clip, const Sens
     each(i, r.value(), sensor);
   }
   return true;
+}
+
+/// Runs one sensor for each of `starts` (frame indices, ascending) over a video clip, in one pass
+/// over its frames: the sensor started at a frame sees no frame before it, as a sensor switched
+/// on then would, and runs to `lastFrame`, working the high-pass out only where a contact can be,
+/// as the pipeline's sensor does. Calls `each(k, index, frame, sensor)` for sensor k
+/// after each of its frames. A still is one frame: every start but 0 is passed over. False when
+/// the clip cannot be read.
+inline bool RunClipFromStarts(
+    const std::string& dir, const LabelledClip& clip, const SensingParams& params,
+    const std::vector<int>& starts, int lastFrame,
+    const std::function<void(size_t, int, const ContourFrame&, const Sensor&)>& each) {
+  const std::string path = dir + "/" + clip.path;
+  if (clip.IsStill()) {
+    return RunClip(dir, clip, params, 0, [&](int i, const ContourFrame& f, const Sensor& s) {
+      for (size_t k = 0; k < starts.size(); ++k)
+        if (starts[k] == 0) each(k, i, f, s);
+    });
+  }
+  cv::VideoCapture video(path);
+  if (!video.isOpened()) return false;
+  double fps = video.get(cv::CAP_PROP_FPS);
+  if (!(fps > 0.0)) fps = 30.0;
+  std::vector<Sensor> sensors(starts.size());
+  for (Sensor& s : sensors) s.SetWholeStages(false);  // as the pipeline's (the same contours)
+  cv::Mat frame;
+  for (int i = 0; i <= lastFrame && video.read(frame); ++i) {
+    for (size_t k = 0; k < starts.size(); ++k) {
+      if (i < starts[k]) continue;
+      if (i == starts[k]) {
+        const TableParams table = ClipTable(clip, frame.size());
+        if (sensors[k].Configure(params, table, LinearCalibration(frame.size(), table), path))
+          return false;
+      }
+      Result<ContourFrame> r = sensors[k].Step(frame, i, i / fps);
+      if (!r) return false;
+      each(k, i, r.value(), sensors[k]);
+    }
+  }
+  return true;
+}
+
+/// The frame rate of a video clip (30 when it does not say; 0 when it cannot be opened).
+inline double ClipFrameRate(const std::string& dir, const LabelledClip& clip) {
+  cv::VideoCapture video(dir + "/" + clip.path);
+  if (!video.isOpened()) return 0.0;
+  const double fps = video.get(cv::CAP_PROP_FPS);
+  return fps > 0.0 ? fps : 30.0;
 }
 
 /// True when the contact's outline holds the camera point, or passes within `slackPx` of it.

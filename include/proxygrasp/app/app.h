@@ -17,8 +17,8 @@
 
 namespace pg {
 
-/// The level `play` opens when none is named.
-inline constexpr const char* kDefaultLevel = "levels/demo_sort.toml";
+/// The level `play` opens when none is named: a name, found as LevelSearchDirs says.
+inline constexpr const char* kDefaultLevel = "demo_sort";
 
 /// What drives the pipeline.
 enum class InputKind { kCamera, kVideo, kScript, kMouse, kTouch, kTuio };

@@ -121,6 +121,9 @@ struct GraspPrediction {
   /// Fingers that slide during the motion: the largest margin of the configurations it passes
   /// through (`margin` is the smallest); the scene is scored only when they agree
   double marginMax = 0.0;
+  /// Fingers that slide over a round slice: the farthest one goes round it, rad. From 5 degrees
+  /// on the scene is reported with the boundary (docs/physics.md, "A slide over a round slice")
+  double slideTurn = 0.0;
 };
 
 /// What a scene did when run.

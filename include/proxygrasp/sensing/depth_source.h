@@ -1,8 +1,9 @@
 // Depth cameras as frame sources: 16-bit PNG folders (depth:DIR), libfreenect's recordings
 // (fakenect:DIR), OpenNI2 devices and ONI recordings (openni[:URI], oni:FILE), and a live Kinect v1
 // through libfreenect (kinect[:N]). Every depth source delivers CV_16UC1 frames of depth in
-// millimetres along the camera's axis, 0 where the camera has no reading; the pipeline routes such
-// frames to the depth sensing chain (sensing/depth_sensor.h). docs/sensing.md, "Depth cameras".
+// millimetres along the camera's axis, 0 where the camera has no reading. The touch-from-depth
+// chain that turns them into contacts is not built yet: the IR sensor refuses such frames by name
+// (counted and skipped). docs/sensing.md, "Depth cameras".
 #pragma once
 
 #include "proxygrasp/core/error.h"

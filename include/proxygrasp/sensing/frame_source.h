@@ -52,9 +52,9 @@ class FrameSource {
 };
 
 /// Opens a source from a spec: "camera:N", a "/dev/video*" path, "video:FILE" or a video file,
-/// "folder:DIR" or a directory, "synthetic:fingers" or "synthetic:hands" (built-in demo scenes), or
-/// a depth source: depth:DIR, fakenect:DIR, oni:FILE, openni[:URI], kinect[:N] (OpenDepthSource).
-/// Errors name the spec and say what went wrong.
+/// an image file (one frame), "folder:DIR" or a directory, "synthetic:fingers" or "synthetic:hands"
+/// (built-in demo scenes), or a depth source: depth:DIR, fakenect:DIR, oni:FILE, openni[:URI],
+/// kinect[:N] (OpenDepthSource). Errors name the spec and say what went wrong.
 Result<std::unique_ptr<FrameSource>> OpenFrameSource(const std::string& spec);
 
 /// A script for SyntheticSource: the shapes on the table at a frame; false ends the script.
@@ -84,6 +84,10 @@ class SyntheticSource : public FrameSource {
   int64_t m_next = 0;
   std::vector<ContactShape> m_shapes;
 };
+
+/// True when the path names an image file by its extension (png, jpg, jpeg, bmp, tif, tiff, pgm,
+/// ppm; any case).
+bool IsImageFile(const std::string& path);
 
 /// Image files of a folder in numeric order: "frame_2.png" before "frame_10.png" (the last run of
 /// digits in the name decides; ties fall back to the name). Only common image extensions count.

@@ -5,6 +5,7 @@
 
 #include "proxygrasp/core/error.h"
 #include "proxygrasp/core/table.h"
+#include "proxygrasp/sensing/background.h"
 #include "proxygrasp/sensing/calibration.h"
 #include "proxygrasp/sensing/types.h"
 
@@ -115,8 +116,18 @@ class Sensor {
   bool WarmingUp() const;
   // the camera noise's deviation in the frame just learned (threshold_mode "adaptive")
   void MeasureNoise(double dt);
-  // the highest filtered level above `level` (0 when none), where the filter worked
-  double BrightestAbove(double level) const;
+  // the brightest fingertip-like touch above `level` (0 when none), where the filter worked
+  double BrightestTipAbove(double level);
+  // the highest 3x3 mean of pixels above `level` centred on `at` or one of its 8 neighbours
+  double PeakAround(cv::Point at, double level) const;
+  // true when a ring of a fingertip's diameter around `at` lies mostly below half of `peak`
+  bool TipLike(cv::Point at, double peak) const;
+  // the end of an estimated background's warm-up: its per-pixel low, floored by the spatial
+  // estimate
+  void FinishWarmup();
+  // the first seconds after the warm-up: where the frame is darker than the background (a hand
+  // that lay there at the start has moved), the band of rows r0..r1 comes down to it fast
+  void SettleDark(int r0, int r1, double bandDt);
   double PixelsPerCm() const;
 
   SensingParams m_params;
@@ -127,7 +138,13 @@ class Sensor {
   bool m_linear = true;  // camera -> table is affine (no distortion): map points without Newton
 
   cv::Mat m_background;  // CV_8UC1
-  cv::Mat m_learned;     // CV_32F, the background being learned
+  // an estimated background: the first frame's spatial estimate (CV_8UC1), and during its
+  // warm-up the frames' running mean (time constant a third of the warm-up) and its per-pixel
+  // lowest (CV_32F)
+  cv::Mat m_spatial;
+  cv::Mat m_lowMean, m_lowest;
+  double m_startTime = 0.0;  // s, the time of the frame the background was estimated from
+  cv::Mat m_learned;         // CV_32F, the background being learned
   double m_lastTime = 0.0;
   double m_learnedTime = 0.0;  // s of frames learned since the background was seeded
   bool m_warmup = false;       // the background is an estimate: warm it up
@@ -153,6 +170,10 @@ class Sensor {
   double m_brightest = 0.0;
   double m_brightestTime = 0.0;
   double m_level = -1.0;  // the last adaptive level (filtered grey), < 0 before the first
+  // without a touch seen: the level held at the threshold, then falling (filtered grey), since
+  double m_falling = 0.0;
+  double m_fallStart = 0.0;                                 // s
+  std::vector<std::pair<uint8_t, cv::Point>> m_candidates;  // BrightestTipAbove's scratch
 
   // the stage images, reused every frame
   cv::Mat m_grey;                    // CV_8UC1
@@ -188,10 +209,5 @@ void OpenCross3(cv::Mat& image, cv::Mat& scratch, const std::vector<cv::Rect>* a
 /// The structuring element of the clean-up opening of `radius` px (SensingParams::morphology): an
 /// ellipse 2 radius + 1 px across, empty for 0.
 cv::Mat OpeningKernel(int radius);
-
-/// Estimates a clear-table background from one frame that may show contacts: the lower quartile of
-/// 32x32-pixel blocks, with blocks much brighter than the median (covered by a hand) filled from
-/// their neighbours, then smoothly interpolated back to full size. CV_8UC1 in, CV_8UC1 out.
-cv::Mat EstimateBackground(const cv::Mat& frame, double coveredMargin);
 
 }  // namespace pg

@@ -1,0 +1,337 @@
+// The background a sensor starts from (src/sensing/background.cpp) and what it gives from the
+// first frame: real clips started at every 5 s mark, each still on its own, and the synthetic
+// camera started with hands down, with a first touch on a dim table, and with the shadows and
+// dark spots that must leave no contact (docs/sensing.md, "From the first frame").
+#include "test_paths.h"
+
+#include "proxygrasp/core/units.h"
+#include "proxygrasp/sensing/sensor.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "sensing/real_footage.h"
+
+namespace pg {
+namespace {
+
+// ---- the synthetic camera started with hands down, a dim table's first touch, shadows ----
+
+// Camera seeds 1 to 6 (issue 45); under the sanitizers, ten times slower, seed 1 alone: the code
+// it runs is the same for every seed, and the sanitizer phase of CI is near its time budget.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr int kLastSeed = 1;
+#else
+constexpr int kLastSeed = 6;
+#endif
+
+// a sensor on a synthetic camera with its true calibration and no background: estimated
+struct Start {
+  explicit Start(const SyntheticCameraParams& p) : camera(p, table) {
+    EXPECT_FALSE(sensor.Configure(SensingParams(), table, CalibrationFromModel(camera.model())));
+  }
+  TableParams table;
+  SyntheticCamera camera;
+  Sensor sensor;
+};
+
+ContactShape Shape(ShapeKind kind, Vec2 pos, double radius = 0.8) {
+  ContactShape s;
+  s.kind = kind;
+  s.pose.pos = pos;
+  s.radius = radius;
+  return s;
+}
+
+// true when some contact's outline holds the table point
+bool Covered(const ContourFrame& f, Vec2 p) {
+  for (const Blob& b : f.blobs) {
+    std::vector<cv::Point2f> outline;
+    for (Eigen::Index k = 0; k < b.contour.cols(); ++k)
+      outline.emplace_back(static_cast<float>(b.contour(0, k)),
+                           static_cast<float>(b.contour(1, k)));
+    if (cv::pointPolygonTest(
+            outline, cv::Point2f(static_cast<float>(p.x()), static_cast<float>(p.y())), false) >= 0)
+      return true;
+  }
+  return false;
+}
+
+// Hands down at the start (a flat hand and a five-finger hand on the table from the first frame),
+// lying still for 0.5 s, then sliding away at 10 cm/s: each is found from the first frame. What
+// the warm-up took in (they lay still through it) comes back as they move: printed, and bounded.
+TEST(FirstFrames, HandsDownAtTheStartAreFoundAtOnce) {
+  for (int seed = 1; seed <= kLastSeed; ++seed) {
+    SyntheticCameraParams p;
+    p.seed = seed;
+    Start s(p);
+    const Vec2 flat0(18.0, 20.0), five0(40.0, 20.0);
+    int firstFlat = -1, firstFive = -1, missedMoving = 0, movingFrames = 0, phantoms = 0;
+    int missedEarly = 0;  // hand-frames missed from 0.2 to 1.5 s
+    for (int i = 0; i < 150; ++i) {
+      const double t = i / 60.0;
+      const double shift = std::max(0.0, t - 0.5) * 10.0;  // cm
+      ContactShape flat = Shape(ShapeKind::kHandFlat, flat0 + Vec2(shift, 0.0));
+      ContactShape five = Shape(ShapeKind::kHandFive, five0 + Vec2(shift, 0.0));
+      flat.scale = five.scale = 0.8;
+      const ContactShape shapes[] = {flat, five};
+      Result<ContourFrame> r = s.sensor.Step(s.camera.Render(shapes), i, t);
+      ASSERT_TRUE(r) << r.error().Format();
+      const bool flatSeen = Covered(r.value(), flat.pose.pos);
+      const bool fiveSeen = Covered(r.value(), five.pose.pos);
+      if (flatSeen && firstFlat < 0) firstFlat = i;
+      if (fiveSeen && firstFive < 0) firstFive = i;
+      if (t > 0.2 && t <= 1.5) missedEarly += (flatSeen ? 0 : 1) + (fiveSeen ? 0 : 1);
+      if (t > 1.5) {
+        movingFrames += 2;
+        missedMoving += (flatSeen ? 0 : 1) + (fiveSeen ? 0 : 1);
+      }
+      for (const Blob& b : r.value().blobs)
+        phantoms += ShapeDistance(flat, b.centroid) > 1.0 && ShapeDistance(five, b.centroid) > 1.0;
+    }
+    std::printf(
+        "seed %d: flat hand first found at frame %d, five-finger hand at %d; 0.2 to 1.5 s: "
+        "%d of 156 missed; after 1.5 s %d of %d missed; %d contacts off the hands\n",
+        seed, firstFlat, firstFive, missedEarly, missedMoving, movingFrames, phantoms);
+    // "found within 0.2 s" (12 frames at 60 Hz)
+    EXPECT_GE(firstFlat, 0);
+    EXPECT_LE(firstFlat, 12);
+    EXPECT_GE(firstFive, 0);
+    EXPECT_LE(firstFive, 12);
+    // once they have moved their own length (1 s at 10 cm/s) they are back for good
+    EXPECT_EQ(missedMoving, 0) << "seed " << seed;
+    EXPECT_EQ(phantoms, 0) << "seed " << seed;
+  }
+}
+
+// A dim table like t2.avi's (camera noise 0.7 grey), clear for its first second, then one
+// fingertip lands with a contrast of 8 grey: found within 0.2 s of landing, and every frame after;
+// no contact before it. The level then: 5 noise deviations (sigma reads about 0.86, see
+// Sensor.AdaptiveLevelFindsADimTablesTouchesAndKeepsTheThresholdOnABrightOne) = 4.3 grey, under
+// the touch's high-passed peak of 8 x 0.84 = 6.7 grey; 0.3 of that is 2 grey, under the floor.
+TEST(FirstFrames, FirstTouchOnADimTableIsFoundAtOnce) {
+  for (int seed = 1; seed <= kLastSeed; ++seed) {
+    SyntheticCameraParams p;
+    p.seed = seed;
+    p.noise = 0.7;
+    p.contactLevel = p.background + 8.0;
+    p.haloLevel = 0.0;
+    Start s(p);
+    const ContactShape tip = Shape(ShapeKind::kCircle, {30.0, 22.0});
+    int first = -1, missedAfter = 0, phantoms = 0;
+    for (int i = 0; i < 180; ++i) {
+      const bool down = i >= 60;
+      const std::vector<ContactShape> shapes =
+          down ? std::vector<ContactShape>{tip} : std::vector<ContactShape>{};
+      Result<ContourFrame> r = s.sensor.Step(s.camera.Render(shapes), i, i / 60.0);
+      ASSERT_TRUE(r);
+      const bool seen = Covered(r.value(), tip.pose.pos);
+      if (down && seen && first < 0) first = i;
+      if (down && first >= 0 && !seen) ++missedAfter;
+      for (const Blob& b : r.value().blobs)
+        phantoms += !down || (b.centroid - tip.pose.pos).norm() > 1.0;
+    }
+    std::printf(
+        "seed %d: the touch at frame 60 first found at frame %d (%.3f s); %d frames "
+        "missed after; %d other contacts; level %.2f\n",
+        seed, first, (first - 60) / 60.0, missedAfter, phantoms, s.sensor.LastThreshold());
+    EXPECT_GE(first, 60) << "seed " << seed;
+    EXPECT_LE(first, 72) << "seed " << seed;
+    EXPECT_EQ(missedAfter, 0) << "seed " << seed;
+    EXPECT_EQ(phantoms, 0) << "seed " << seed;
+  }
+}
+
+// A shadow or dark spot: `depth` grey darker over a disc `diameter` cm across (edges blurred over
+// 0.3 cm), from `from` to `to` s; the frame `t` s in.
+cv::Mat Shadowed(const cv::Mat& frame, const cv::Mat& mask, double depth) {
+  cv::Mat f;
+  frame.convertTo(f, CV_32F);
+  f -= depth * mask;
+  cv::Mat out;
+  f.convertTo(out, CV_8UC1);
+  return out;
+}
+cv::Mat DiscMask(const Start& s, Vec2 at, double diameter) {
+  cv::Mat mask(s.camera.params().height, s.camera.params().width, CV_32F);
+  for (int v = 0; v < mask.rows; ++v) {
+    for (int u = 0; u < mask.cols; ++u) {
+      const double d = (s.camera.model().CameraToTable(Vec2(u, v)) - at).norm() - 0.5 * diameter;
+      mask.at<float>(v, u) = static_cast<float>(0.5 * (1.0 - std::tanh(d / 0.3)));
+    }
+  }
+  return mask;
+}
+
+// The empty table, hovering hands' shadows and dark spots, from the start, seeds 1 to 6: no
+// contact at any frame. The shadows: 60 grey deep and 2 cm across for 2 s (a hand hovering in
+// ambient light; it made the faster dark learning of 2026-11-27 fail), 20 grey for 2 s, present
+// from the first frame or landing at 1 s (while the background settles, when it comes down fast
+// where the frame is darker: never below the first frame's spatial estimate) or at 8 s; wider
+// dark spots (4 cm, 30 and 60 grey, 2 s) and a shallow one (20 grey, 10 s). Each run lasts until
+// 3 s after the shadow goes: a spot learned darker than the table reads as a touch when it goes.
+TEST(FirstFrames, EmptyTableShadowsAndDarkSpotsLeaveNoContact) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "too slow under the sanitizers (48 runs, 11 s in Release): run in Release";
+#endif
+  struct Case {
+    double depth, diameter, from, duration;
+  };
+  const Case cases[] = {{0.0, 2.0, 0.0, 0.0},  {60.0, 2.0, 0.0, 2.0}, {60.0, 2.0, 1.0, 2.0},
+                        {60.0, 2.0, 8.0, 2.0}, {20.0, 2.0, 1.0, 2.0}, {30.0, 4.0, 1.0, 2.0},
+                        {60.0, 4.0, 1.0, 2.0}, {20.0, 2.0, 1.0, 10.0}};
+  int runs = 0;
+  for (const Case& c : cases) {
+    // the spot's mask is the same for every seed (the camera's geometry is)
+    const cv::Mat mask = DiscMask(Start(SyntheticCameraParams()), {30.0, 22.0}, c.diameter);
+    for (int seed = 1; seed <= kLastSeed; ++seed) {
+      SyntheticCameraParams p;
+      p.seed = seed;
+      Start s(p);
+      const double end = c.from + c.duration + 3.0;
+      int contacts = 0;
+      // 20 Hz keeps the test short; the learning is paced by time, not frames
+      for (int i = 0; i / 20.0 < end; ++i) {
+        const double t = i / 20.0;
+        cv::Mat frame = s.camera.Render({});
+        if (c.depth > 0.0 && t >= c.from && t < c.from + c.duration)
+          frame = Shadowed(frame, mask, c.depth);
+        Result<ContourFrame> r = s.sensor.Step(frame, i, t);
+        ASSERT_TRUE(r);
+        contacts += static_cast<int>(r.value().blobs.size());
+      }
+      EXPECT_EQ(contacts, 0) << "seed " << seed << ": " << c.depth << " grey, " << c.diameter
+                             << " cm, from " << c.from << " s for " << c.duration << " s";
+      ++runs;
+    }
+  }
+  EXPECT_EQ(runs, 8 * kLastSeed);
+}
+
+// ---- real table footage (../shared/real), started at every 5 s mark ----
+
+constexpr const char* kNoRealData =
+    "../shared/real is absent (a clone of the project alone): no real footage to test on; set "
+    "PROXYGRASP_REAL_DATA to its folder";
+
+// the scores of one clip started at its 5 s marks
+struct MarkScores {
+  int hotClearHits = 0;     // contacts at a hot spot on clear frames, 1 s or more after a start
+  int hotLongest = 0;       // frames, the longest a contact stayed at a hot spot after 1 s
+  std::vector<int> starts;  // frames
+  std::vector<real::Score> scores;  // per start
+  real::Score total;
+};
+
+// Starts a sensor at every `every`-th 5 s mark of the clip (from mark `first`) that has a labelled
+// frame at least 0.2 s after it, and scores each on the labelled frames from 0.2 s after its
+// start to the end.
+MarkScores ScoreFromMarks(const std::string& dir, const real::LabelledClip& clip,
+                          const SensingParams& params, int every = 1, int first = 0) {
+  MarkScores m;
+  const double fps = clip.IsStill() ? 30.0 : real::ClipFrameRate(dir, clip);
+  EXPECT_GT(fps, 0.0) << clip.path;
+  if (!(fps > 0.0)) return m;
+  const int settle = static_cast<int>(std::ceil(0.2 * fps));
+  for (int mark = first;; mark += every) {
+    const int start = static_cast<int>(std::lround(5.0 * mark * fps));
+    if (clip.IsStill() && start > 0) break;
+    if (start + settle > clip.LastFrame() && !(clip.IsStill() && start == 0)) break;
+    m.starts.push_back(start);
+  }
+  m.scores.resize(m.starts.size());
+  std::vector<size_t> next(m.starts.size(), 0);
+  // t2.avi's hot spots, as RealFootage.DefaultsFindNoContactAtTheHotSpotsOfT2AfterTheFirstSecond
+  // reads them (a contact's centroid within half the spot's radius), to the clip's end
+  std::vector<std::vector<int>> run(m.starts.size(), std::vector<int>(clip.hotspots.size(), 0));
+  const int last = clip.hotspots.empty() ? clip.LastFrame() : 1 << 30;
+  const bool read = real::RunClipFromStarts(
+      dir, clip, params, m.starts, last,
+      [&](size_t k, int i, const ContourFrame& f, const Sensor& sensor) {
+        if ((i - m.starts[k]) / fps > 1.0) {
+          for (size_t h = 0; h < clip.hotspots.size(); ++h) {
+            const real::Spot& spot = clip.hotspots[h];
+            bool at = false;
+            for (const Blob& b : f.blobs) {
+              const Vec2 c = real::CentroidPixel(b, sensor);
+              at = at || std::hypot(c.x() - spot.x, c.y() - spot.y) < 0.5 * spot.r;
+            }
+            run[k][h] = at ? run[k][h] + 1 : 0;
+            m.hotLongest = std::max(m.hotLongest, run[k][h]);
+            if (at && clip.IsClear(i)) ++m.hotClearHits;
+          }
+        }
+        const int first = clip.IsStill() ? 0 : m.starts[k] + settle;
+        if (i < first) return;
+        size_t& n = next[k];
+        while (n < clip.frames.size() && clip.frames[n].index < i) ++n;
+        if (n < clip.frames.size() && clip.frames[n].index == i)
+          real::ScoreFrame(clip, clip.frames[n], f, sensor, m.scores[k]);
+      });
+  EXPECT_TRUE(read) << "cannot read " << dir << "/" << clip.path;
+  for (const real::Score& s : m.scores) {
+    m.total.frames += s.frames;
+    m.total.tips += s.tips;
+    m.total.found += s.found;
+    m.total.contacts += s.contacts;
+    m.total.unmatched += s.unmatched;
+    m.total.offTips += s.offTips;
+    m.total.misses += s.misses;
+  }
+  return m;
+}
+
+// Issue 45: every clip started at 5 s marks with no earlier frames (the stills on their own),
+// scored on its labelled frames from 0.2 s after the start to the end of the clip: at least 95% of
+// the fingertips found, at most one unmatched contact per 20 labelled frames. A labelled frame
+// counts once for every start before it. The sensors work as the pipeline's do, the high-pass only
+// where a contact can be (the same contours). Every mark of every clip is some 6 s of sensing in
+// Release (one pass over each clip's frames, all the starts' sensors on it): the test does not run
+// under the sanitizers, ten times slower (the chain it checks runs there in the other real-footage
+// tests).
+TEST(RealFootage, StartedAtEvery5SecondMarkAndStillsAlone) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "too slow under the sanitizers (about 10 s in Release): run in Release";
+#endif
+  const std::string dir = real::RealDataDir();
+  if (dir.empty()) GTEST_SKIP() << kNoRealData;
+  const std::vector<real::LabelledClip> clips =
+      real::ReadLabels(std::string(pg::test::TestDataDir()) + "/real_labels.txt");
+  real::Score all;
+  for (const real::LabelledClip& clip : clips) {
+    const MarkScores m = ScoreFromMarks(dir, clip, SensingParams());
+    std::printf("%s:", clip.path.c_str());
+    for (size_t k = 0; k < m.starts.size(); ++k)
+      std::printf(" from %d: %d of %d (%d unmatched);", m.starts[k], m.scores[k].found,
+                  m.scores[k].tips, m.scores[k].unmatched);
+    std::printf(" in all %d of %d, %d unmatched in %d frames\n", m.total.found, m.total.tips,
+                m.total.unmatched, m.total.frames);
+    if (!clip.hotspots.empty()) {
+      // 1 s after any start: none on the clear frames, none staying 2 s (a hand moves on)
+      std::printf("%s hot spots after 1 s: %d contacts on clear frames, longest stay %d frames\n",
+                  clip.path.c_str(), m.hotClearHits, m.hotLongest);
+      EXPECT_EQ(m.hotClearHits, 0) << clip.path;
+      EXPECT_LT(m.hotLongest, 117) << clip.path;
+    }
+    all.frames += m.total.frames;
+    all.tips += m.total.tips;
+    all.found += m.total.found;
+    all.unmatched += m.total.unmatched;
+    all.misses += m.total.misses;
+  }
+  std::printf("all: %d of %d fingertips (%.1f%%), %d unmatched in %d frames (%.2f per 20)\n",
+              all.found, all.tips, 100.0 * all.found / all.tips, all.unmatched, all.frames,
+              20.0 * all.unmatched / all.frames);
+  ASSERT_GT(all.tips, 700);
+  EXPECT_GE(all.found, 0.95 * all.tips) << all.misses;
+  EXPECT_LE(all.unmatched * 20, all.frames) << all.misses;
+}
+
+}  // namespace
+}  // namespace pg
