@@ -25,7 +25,8 @@ MaybeError Simulation::Start(const Level& level, const LevelParams& params,
     return s;
   }
   next.m_sensor.SetWholeStages(options.wholeStages);
-  if (MaybeError s = next.m_depthSensor.Configure(params.depth, params.sensing, params.table, size)) {
+  if (MaybeError s =
+          next.m_depthSensor.Configure(params.depth, params.sensing, params.table, size)) {
     if (s->loc.file.empty()) s->loc.file = level.path;
     return s;
   }

@@ -341,8 +341,8 @@ void DepthSensor::Extract(const cv::Mat& mask, double minArea, std::vector<Blob>
     blob.heights.resize(static_cast<size_t>(n));
     for (Eigen::Index k = 0; k < n; ++k) {
       const Vec2 table = blob.contour.col(k);
-      const Vec2 px = linear ? Homography(m_tableToCamera, table.x(), table.y())
-                             : m_model.TableToCamera(table);
+      const Vec2 px =
+          linear ? Homography(m_tableToCamera, table.x(), table.y()) : m_model.TableToCamera(table);
       const int cx = static_cast<int>(std::lround(px.x()));
       const int cy = static_cast<int>(std::lround(px.y()));
       float best = 0.0f;

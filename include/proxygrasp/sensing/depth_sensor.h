@@ -29,9 +29,9 @@ struct DepthParams {
   double touchLow = 0.5;          ///< lower edge of the touch band above the surface, cm
   double touchHigh = 2.0;         ///< upper edge of the touch band (finger thickness + noise), cm
   double hoverCeiling = 30.0;     ///< highest hover above the surface, cm
-  double noiseFactor = 4.0;  ///< a pixel touches only this many of its noise deviations up, 1
-  double hoverMinArea = 4.0;    ///< smallest hover region kept, cm^2
-  double heightRadius = 0.5;    ///< a contour point's height: the highest within this, cm
+  double noiseFactor = 4.0;       ///< a pixel touches only this many of its noise deviations up, 1
+  double hoverMinArea = 4.0;      ///< smallest hover region kept, cm^2
+  double heightRadius = 0.5;      ///< a contour point's height: the highest within this, cm
 };
 
 void Describe(DepthParams& p, ParamVisitor& v);
