@@ -11,10 +11,11 @@ namespace pg {
 
 namespace {
 
-// below this a deviation measured over a few frames is no measure of the noise: readings are
-// whole mm (rounding alone is 0.29 mm), and a surface averaged over 15 frames of a Kinect at 1 m
-// (1.5 mm noise) is itself uncertain by 0.4 mm
-constexpr float kNoiseFloorMm = 1.0f;
+// the least deviation a pixel's noise is taken to have at a reading of z mm is f z^2 (noise_floor
+// at 1 m, growing with distance squared as a triangulating camera's depth resolution does): f
+float NoiseFloorPerMm2(const DepthParams& p) {
+  return static_cast<float>(p.noiseFloor * 1e-6);
+}
 
 // how far around something near the surface the surface does not learn, px (half a fingertip at
 // 0.1 cm per pixel: a finger's rim, lower than the band, is not learned into the surface)
@@ -23,6 +24,14 @@ constexpr int kNearMargin = 4;
 Vec2 Homography(const cv::Matx33d& h, double x, double y) {
   const double w = h(2, 0) * x + h(2, 1) * y + h(2, 2);
   return Vec2((h(0, 0) * x + h(0, 1) * y + h(0, 2)) / w, (h(1, 0) * x + h(1, 1) * y + h(1, 2)) / w);
+}
+
+// the median of values (the upper one of an even count), 0 for none; reorders values
+float Median(std::vector<float>& values) {
+  if (values.empty()) return 0.0f;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
 }
 
 }  // namespace
@@ -47,9 +56,12 @@ void Describe(DepthParams& p, ParamVisitor& v) {
          "highest a hover region reaches above the surface");
   v.Real("noise_factor", p.noiseFactor, 0, 50, "1",
          "a pixel touches only this many deviations of its own measured noise above the surface");
+  v.Real("noise_floor", p.noiseFloor, 0, 100, "mm",
+         "least deviation a pixel's noise is taken to have at 1 m (a Kinect v1's), growing with "
+         "distance squared; a deviation measured over few frames can be far too low");
   v.Real("hover_min_area", p.hoverMinArea, 0, 10000, "cm^2", "smallest hover region kept");
   v.Real("height_radius", p.heightRadius, 0, 5, "cm",
-         "a contour point's height is the highest of its region within this distance");
+         "a contour point's height is the median of its region's heights within this distance");
 }
 
 MaybeError DepthSensor::Configure(const DepthParams& depth, const SensingParams& sensing,
@@ -91,7 +103,9 @@ MaybeError DepthSensor::SetParams(const DepthParams& depth, const SensingParams&
     return MakeError({"sensing.calibration"},
                      "cannot change on a configured sensor (Configure it again)");
   if (sensing.morphology != m_sensing.morphology) m_kernel = OpeningKernel(sensing.morphology);
-  const bool band = depth.touchLow != m_depth.touchLow || depth.noiseFactor != m_depth.noiseFactor;
+  const bool band = depth.touchLow != m_depth.touchLow ||
+                    depth.noiseFactor != m_depth.noiseFactor ||
+                    depth.noiseFloor != m_depth.noiseFloor;
   m_depth = depth;
   m_sensing = sensing;
   if (band && m_seeded) UpdateBand();
@@ -102,10 +116,13 @@ void DepthSensor::UpdateBand() {
   m_threshold.create(m_noise.size(), CV_32F);
   const float low = static_cast<float>(10.0 * m_depth.touchLow);
   const float k = static_cast<float>(m_depth.noiseFactor);
+  const float floor = NoiseFloorPerMm2(m_depth);
   for (int y = 0; y < m_noise.rows; ++y) {
     const float* n = m_noise.ptr<float>(y);
+    const float* s = m_surface.ptr<float>(y);
     float* t = m_threshold.ptr<float>(y);
-    for (int x = 0; x < m_noise.cols; ++x) t[x] = std::max(low, k * n[x]);
+    for (int x = 0; x < m_noise.cols; ++x)
+      t[x] = std::max(low, k * std::max(n[x], floor * s[x] * s[x]));
   }
 }
 
@@ -115,7 +132,7 @@ MaybeError DepthSensor::SetSurface(const cv::Mat& surfaceMm, double noiseMm) {
     return MakeError({"depth"}, "the surface must be CV_32F of the configured size");
   m_surface = surfaceMm.clone();
   FillHoles(m_surface, m_surface > 0);
-  m_noise = cv::Mat(m_size, CV_32F, cv::Scalar(std::max<float>(kNoiseFloorMm, noiseMm)));
+  m_noise = cv::Mat(m_size, CV_32F, cv::Scalar(std::max(0.0, noiseMm)));
   m_seeded = true;
   m_seedFrames = m_depth.surfaceFrames;
   UpdateBand();
@@ -216,7 +233,7 @@ void DepthSensor::Seed(const cv::Mat& depthMm) {
       const double mean = s[x] / c[x];
       const double var = std::max(0.0, q[x] / c[x] - mean * mean);
       m[x] = static_cast<float>(mean);
-      n[x] = std::max(kNoiseFloorMm, static_cast<float>(std::sqrt(var)));
+      n[x] = static_cast<float>(std::sqrt(var));
     }
   }
   FillHoles(m_surface, valid);
@@ -245,7 +262,8 @@ void DepthSensor::Classify(const cv::Mat& depthMm) {
       const float above = d[x] ? s[x] - static_cast<float>(d[x]) : 0.0f;
       h[x] = above;
       touch[x] = above > t[x] && above <= high ? 255 : 0;
-      hover[x] = above > high && above <= ceiling ? 255 : 0;
+      // hover too must stand out of the pixel's noise (far from the camera, more than the band)
+      hover[x] = above > std::max(high, t[x]) && above <= ceiling ? 255 : 0;
     }
   }
 }
@@ -275,6 +293,7 @@ void DepthSensor::Learn(const cv::Mat& depthMm, double dt) {
                                        cv::Size(2 * kNearMargin + 1, 2 * kNearMargin + 1)));
   const float low = static_cast<float>(10.0 * m_depth.touchLow);
   const float k = static_cast<float>(m_depth.noiseFactor);
+  const float floor = NoiseFloorPerMm2(m_depth);
   for (int y = y0; y < y1; ++y) {
     const uint16_t* d = depthMm.ptr<uint16_t>(y);
     const uint8_t* near = m_near.ptr<uint8_t>(y - a);
@@ -284,17 +303,18 @@ void DepthSensor::Learn(const cv::Mat& depthMm, double dt) {
     for (int x = 0; x < m_size.width; ++x) {
       if (!d[x] || near[x]) continue;
       const float diff = static_cast<float>(d[x]) - s[x];  // > 0: farther than the surface
-      float rate;
-      if (diff > t[x])
-        rate = fast;  // something that was there has gone
-      else if (diff >= -t[x])
-        rate = slow;  // the surface itself
-      else
-        continue;  // above the band's lower edge, beyond the ceiling: not the surface
-      s[x] += rate * diff;
-      const float var = (1.0f - rate) * (n[x] * n[x] + rate * diff * diff);
-      n[x] = std::max(kNoiseFloorMm, std::sqrt(var));
-      t[x] = std::max(low, k * n[x]);
+      if (diff > t[x]) {
+        // something that was there has gone: the surface moves back, its noise stays (a step
+        // is no noise)
+        s[x] += fast * diff;
+        continue;
+      }
+      if (diff < -t[x]) continue;  // above the band's lower edge: not the surface
+      // the surface itself: its mean and deviation follow slowly
+      s[x] += slow * diff;
+      const float var = (1.0f - slow) * (n[x] * n[x] + slow * diff * diff);
+      n[x] = std::sqrt(var);
+      t[x] = std::max(low, k * std::max(n[x], floor * s[x] * s[x]));
     }
   }
 }
@@ -336,7 +356,8 @@ void DepthSensor::Extract(const cv::Mat& mask, double minArea, std::vector<Blob>
     blob.centroid = PolygonCentroid(blob.contour);
     blob.boundsMin = blob.contour.rowwise().minCoeff();
     blob.boundsMax = blob.contour.rowwise().maxCoeff();
-    // each point's height: the highest of the region within height_radius of it, cm
+    // each point's height: the median of its region's heights within height_radius of it, cm
+    // (robust to the noise and to the mixed pixels a depth camera gives at an edge)
     const int r = std::max(0, static_cast<int>(std::lround(m_depth.heightRadius / cmpp)));
     blob.heights.resize(static_cast<size_t>(n));
     for (Eigen::Index k = 0; k < n; ++k) {
@@ -345,16 +366,15 @@ void DepthSensor::Extract(const cv::Mat& mask, double minArea, std::vector<Blob>
           linear ? Homography(m_tableToCamera, table.x(), table.y()) : m_model.TableToCamera(table);
       const int cx = static_cast<int>(std::lround(px.x()));
       const int cy = static_cast<int>(std::lround(px.y()));
-      float best = 0.0f;
+      m_values.clear();
       for (int y = std::max(0, cy - r); y <= std::min(m_size.height - 1, cy + r); ++y) {
         const uint8_t* in = mask.ptr<uint8_t>(y);
         const float* h = m_height.ptr<float>(y);
         for (int x = std::max(0, cx - r); x <= std::min(m_size.width - 1, cx + r); ++x) {
-          if (in[x] && (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r)
-            best = std::max(best, h[x]);
+          if (in[x] && (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) m_values.push_back(h[x]);
         }
       }
-      blob.heights[static_cast<size_t>(k)] = 0.1 * best;
+      blob.heights[static_cast<size_t>(k)] = 0.1 * Median(m_values);
     }
     blobs.push_back(std::move(blob));
   }

@@ -30,8 +30,9 @@ struct DepthParams {
   double touchHigh = 2.0;         ///< upper edge of the touch band (finger thickness + noise), cm
   double hoverCeiling = 30.0;     ///< highest hover above the surface, cm
   double noiseFactor = 4.0;       ///< a pixel touches only this many of its noise deviations up, 1
-  double hoverMinArea = 4.0;      ///< smallest hover region kept, cm^2
-  double heightRadius = 0.5;      ///< a contour point's height: the highest within this, cm
+  double noiseFloor = 1.5;        ///< least noise deviation at 1 m, mm (grows with distance^2)
+  double hoverMinArea = 1.0;      ///< smallest hover region kept, cm^2
+  double heightRadius = 0.5;      ///< a contour point's height: the median within this, cm
 };
 
 void Describe(DepthParams& p, ParamVisitor& v);
@@ -65,7 +66,8 @@ class DepthSensor {
 
   /// True once the surface model is learned.
   bool HasSurface() const { return m_seeded; }
-  /// The surface model, mm (CV_32F), and its per-pixel noise deviation, mm (CV_32F).
+  /// The surface model, mm (CV_32F), and its per-pixel noise deviation as measured, mm (CV_32F;
+  /// the band uses at least DepthParams::noiseFloor scaled to the distance).
   const cv::Mat& Surface() const { return m_surface; }
   const cv::Mat& SurfaceNoise() const { return m_noise; }
   /// Uses this surface (CV_32F mm, holes as 0 filled from neighbours) with `noise` mm everywhere.
@@ -111,6 +113,7 @@ class DepthSensor {
   cv::Mat m_touch, m_hover, m_near, m_scratch;
   cv::Mat m_kernel;
   std::vector<std::vector<cv::Point>> m_contours;
+  std::vector<float> m_values;  // heights around one contour point
 };
 
 /// Fills pixels of `image` (CV_32F) where `valid` is 0 from their valid neighbours, at growing
