@@ -124,6 +124,7 @@ void DepthSensor::UpdateBand() {
     for (int x = 0; x < m_noise.cols; ++x)
       t[x] = std::max(low, k * std::max(n[x], floor * s[x] * s[x]));
   }
+  UpdateBounds(0, m_size.height);
 }
 
 MaybeError DepthSensor::SetSurface(const cv::Mat& surfaceMm, double noiseMm) {
@@ -246,24 +247,34 @@ void DepthSensor::Seed(const cv::Mat& depthMm) {
 }
 
 void DepthSensor::Classify(const cv::Mat& depthMm) {
-  m_height.create(m_size, CV_32F);
-  m_touch.create(m_size, CV_8UC1);
-  m_hover.create(m_size, CV_8UC1);
+  // height above the surface, then each band by its per-pixel edges (UpdateBounds); a pixel
+  // without a reading (0) stands the whole surface distance up, above both bands' upper edges
+  depthMm.convertTo(m_float, CV_32F);
+  cv::subtract(m_surface, m_float, m_height);
+  cv::inRange(m_height, m_threshold, m_touchHigh, m_touch);
+  cv::inRange(m_height, m_hoverLow, m_hoverHigh, m_hover);
+}
+
+void DepthSensor::UpdateBounds(int y0, int y1) {
+  // touch: from the noise edge to touch_high; hover: above both up to hover_ceiling (it too must
+  // stand out of the pixel's noise, which far from the camera is more than the band); both end
+  // half a mm short of the surface's own distance, so that no reading (0) is in neither
   const float high = static_cast<float>(10.0 * m_depth.touchHigh);
   const float ceiling = static_cast<float>(10.0 * m_depth.hoverCeiling);
-  for (int y = 0; y < m_size.height; ++y) {
-    const uint16_t* d = depthMm.ptr<uint16_t>(y);
+  constexpr float kAbove = 1e-3f;  // mm: the bands do not share their common edge
+  m_touchHigh.create(m_size, CV_32F);
+  m_hoverLow.create(m_size, CV_32F);
+  m_hoverHigh.create(m_size, CV_32F);
+  for (int y = y0; y < y1; ++y) {
     const float* s = m_surface.ptr<float>(y);
     const float* t = m_threshold.ptr<float>(y);
-    float* h = m_height.ptr<float>(y);
-    uint8_t* touch = m_touch.ptr<uint8_t>(y);
-    uint8_t* hover = m_hover.ptr<uint8_t>(y);
+    float* th = m_touchHigh.ptr<float>(y);
+    float* hl = m_hoverLow.ptr<float>(y);
+    float* hh = m_hoverHigh.ptr<float>(y);
     for (int x = 0; x < m_size.width; ++x) {
-      const float above = d[x] ? s[x] - static_cast<float>(d[x]) : 0.0f;
-      h[x] = above;
-      touch[x] = above > t[x] && above <= high ? 255 : 0;
-      // hover too must stand out of the pixel's noise (far from the camera, more than the band)
-      hover[x] = above > std::max(high, t[x]) && above <= ceiling ? 255 : 0;
+      th[x] = std::min(high, s[x] - 0.5f);
+      hl[x] = std::max(high, t[x]) + kAbove;
+      hh[x] = std::min(ceiling, s[x] - 0.5f);
     }
   }
 }
@@ -317,6 +328,7 @@ void DepthSensor::Learn(const cv::Mat& depthMm, double dt) {
       t[x] = std::max(low, k * std::max(n[x], floor * s[x] * s[x]));
     }
   }
+  UpdateBounds(y0, y1);
 }
 
 void DepthSensor::Extract(const cv::Mat& mask, double minArea, std::vector<Blob>& blobs) {
@@ -367,10 +379,11 @@ void DepthSensor::Extract(const cv::Mat& mask, double minArea, std::vector<Blob>
       const int cx = static_cast<int>(std::lround(px.x()));
       const int cy = static_cast<int>(std::lround(px.y()));
       m_values.clear();
-      for (int y = std::max(0, cy - r); y <= std::min(m_size.height - 1, cy + r); ++y) {
+      // every second pixel each way: a quarter of the work, and still 20 or more of them
+      for (int y = std::max(0, cy - r); y <= std::min(m_size.height - 1, cy + r); y += 2) {
         const uint8_t* in = mask.ptr<uint8_t>(y);
         const float* h = m_height.ptr<float>(y);
-        for (int x = std::max(0, cx - r); x <= std::min(m_size.width - 1, cx + r); ++x) {
+        for (int x = std::max(0, cx - r); x <= std::min(m_size.width - 1, cx + r); x += 2) {
           if (in[x] && (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) m_values.push_back(h[x]);
         }
       }

@@ -1,8 +1,8 @@
 #include "proxygrasp/sensing/depth_sensor.h"
 
-#include "proxygrasp/sensing/depth_source.h"
-
 #include "real_data.h"
+
+#include "proxygrasp/sensing/depth_source.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -216,8 +216,8 @@ TEST(DepthSensor, AboveTheCeilingIsNeitherTouchNorHover) {
   int64_t index = 0;
   StepFrames(sensor, scene, {}, index, DepthParams().surfaceFrames);
   // a head leaning 40 cm above the table (hover_ceiling 30 cm)
-  const ContourFrame f = StepFrames(sensor, scene, {{Vec2(30, 20), Vec2(35, 20), 6.0, 400.0}},
-                                    index, 3);
+  const ContourFrame f =
+      StepFrames(sensor, scene, {{Vec2(30, 20), Vec2(35, 20), 6.0, 400.0}}, index, 3);
   EXPECT_TRUE(f.blobs.empty());
   EXPECT_TRUE(f.hover.empty());
 }
@@ -239,8 +239,7 @@ int ContactsWhileTheTableRises(double learning, double* lagMm) {
   // the surface's lag behind the table, mean over the image, mm
   double sum = 0.0;
   for (int v = 0; v < 120; ++v)
-    for (int u = 0; u < 160; ++u)
-      sum += sensor.Surface().at<float>(v, u) - scene.TableMm(u, v);
+    for (int u = 0; u < 160; ++u) sum += sensor.Surface().at<float>(v, u) - scene.TableMm(u, v);
   *lagMm = sum / (160.0 * 120.0);
   return contacts;
 }
@@ -286,8 +285,8 @@ TEST(DepthSensor, SurfaceDoesNotLearnAHandHeldStill) {
       if (DistanceToAxis(palm, p) > palm.radius - 0.3 && DistanceToAxis(tip, p) > tip.radius - 0.3)
         continue;
       ++under;
-      worst = std::max<double>(
-          worst, std::abs(sensor.Surface().at<float>(v, u) - before.at<float>(v, u)));
+      worst = std::max<double>(worst,
+                               std::abs(sensor.Surface().at<float>(v, u) - before.at<float>(v, u)));
     }
   EXPECT_GT(under, 2000);
   EXPECT_LT(worst, 0.5);
@@ -322,8 +321,8 @@ TEST(DepthSensor, SomethingThatLeavesTheTableIsForgottenQuickly) {
   EXPECT_LT(above, 3.0);
   // a fingertip touching there is found: it reads 11 mm or more above the surface, and the
   // deviation there, inflated while the surface lagged, is back below 2.5 mm (band edge 10 mm)
-  const ContourFrame f = StepFrames(sensor, scene, {{Vec2(33, 20), Vec2(33, 20), 0.8, 14.0}},
-                                    index, 1);
+  const ContourFrame f =
+      StepFrames(sensor, scene, {{Vec2(33, 20), Vec2(33, 20), 0.8, 14.0}}, index, 1);
   ASSERT_EQ(f.blobs.size(), 1u);
   EXPECT_NEAR((f.blobs[0].centroid - Vec2(33, 20)).norm(), 0.0, 0.05);
 }
@@ -483,4 +482,3 @@ TEST(RealDepth, StaticScenesGiveNoContactOnceTheirSurfaceIsLearned) {
 
 }  // namespace
 }  // namespace pg
-

@@ -41,7 +41,7 @@ void Describe(DepthParams& p, ParamVisitor& v);
 enum class DepthStage {
   kDepth,    ///< the frame, mm (CV_16UC1)
   kSurface,  ///< the surface model, mm (CV_32F)
-  kHeight,   ///< height above the surface, mm (CV_32F; 0 where no reading)
+  kHeight,   ///< height above the surface, mm (CV_32F; the surface's distance where no reading)
   kTouch,    ///< the touch band, after the opening, 0/255 (CV_8UC1)
   kHover,    ///< above the band up to the ceiling, 0/255 (CV_8UC1)
 };
@@ -82,6 +82,8 @@ class DepthSensor {
  private:
   // the band's lower edge per pixel, from the noise and the parameters
   void UpdateBand();
+  // the bands' other edges per pixel, rows y0 to y1
+  void UpdateBounds(int y0, int y1);
   void Seed(const cv::Mat& depthMm);
   void Classify(const cv::Mat& depthMm);
   void Learn(const cv::Mat& depthMm, double dt);
@@ -99,17 +101,19 @@ class DepthSensor {
   cv::Mat m_sum, m_sumSq, m_count;  // CV_64F / CV_32S while seeding
   int m_seedFrames = 0;
   bool m_seeded = false;
-  cv::Mat m_surface, m_noise;  // CV_32F
-  cv::Mat m_threshold;         // CV_32F: the band's lower edge per pixel, mm
+  cv::Mat m_surface, m_noise;                    // CV_32F
+  cv::Mat m_threshold;                           // CV_32F: the band's lower edge per pixel, mm
+  cv::Mat m_touchHigh, m_hoverLow, m_hoverHigh;  // CV_32F: the other edges, mm
   double m_lastTime = 0.0;
   bool m_haveTime = false;
-  static constexpr int kLearnBands = 4;
+  static constexpr int kLearnBands = 8;
   int m_nextBand = 0;
   double m_bandTime[kLearnBands] = {};
 
   // stage images, reused
   cv::Mat m_frame;   // CV_16UC1
   cv::Mat m_height;  // CV_32F, mm
+  cv::Mat m_float;   // the frame as CV_32F
   cv::Mat m_touch, m_hover, m_near, m_scratch;
   cv::Mat m_kernel;
   std::vector<std::vector<cv::Point>> m_contours;
