@@ -159,6 +159,11 @@ struct SenseOptions {
 
 // the sensing view of the last frame: each filter stage side by side, contacts and ids drawn
 bool WritePreview(const Simulation& sim, const std::string& path) {
+  // the depth chain's stages are not drawn yet (issue 43, item 6)
+  if (sim.cameraImage().type() == CV_16UC1) {
+    std::cerr << "proxygrasp sense: --preview: the depth chain's stages are not drawn yet\n";
+    return false;
+  }
   std::vector<PreviewContact> shown;
   for (const Contact& c : sim.contacts().contacts)
     if (c.state != ContactState::kLifted) shown.push_back({&c.blob, static_cast<int>(c.id)});
