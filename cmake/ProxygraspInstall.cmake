@@ -26,7 +26,7 @@ set(PROXYGRASP_PUBLIC_HEADERS
     core/units.h
     tuio/decoder.h tuio/encoder.h tuio/osc.h tuio/transport.h tuio/types.h
     sensing/background.h sensing/calibration.h sensing/frame_source.h sensing/recorder.h
-    sensing/sensor.h
+    sensing/depth_sensor.h sensing/sensor.h
     sensing/synthetic_camera.h sensing/types.h
     tracking/tracker.h tracking/types.h
     proxies/instant_proxies.h proxies/matching.h proxies/proxy_stage.h proxies/types.h

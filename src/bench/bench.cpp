@@ -6,6 +6,7 @@
 #include "proxygrasp/proxies/matching.h"
 #include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
+#include "proxygrasp/sensing/depth_sensor.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 
 #include <opencv2/imgproc.hpp>
@@ -70,6 +71,21 @@ size_t BareSensingChain::Step(const cv::Mat& frame) {
   if (!m_kernel.empty()) cv::morphologyEx(m_binary, m_binary, cv::MORPH_OPEN, m_kernel);
   // the sensor's retrieval: every component's outer border, those inside another's hole too
   cv::findContours(m_binary, m_contours, m_hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_NONE);
+  return m_contours.size();
+}
+
+BareDepthChain::BareDepthChain(const cv::Mat& surfaceMm, double lowMm, double highMm,
+                               int morphology)
+    : m_surface(surfaceMm), m_low(lowMm), m_high(highMm) {
+  if (morphology > 0) m_kernel = OpeningKernel(morphology);
+}
+
+size_t BareDepthChain::Step(const cv::Mat& depthMm) {
+  depthMm.convertTo(m_float, CV_32F);
+  cv::subtract(m_surface, m_float, m_height);
+  cv::inRange(m_height, m_low, m_high, m_binary);
+  if (!m_kernel.empty()) cv::morphologyEx(m_binary, m_binary, cv::MORPH_OPEN, m_kernel);
+  cv::findContours(m_binary, m_contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   return m_contours.size();
 }
 
@@ -411,6 +427,77 @@ BenchMachine DescribeBenchMachine() {
   return m;
 }
 
+namespace {
+
+// The depth scene: frames rendered first (not timed), then DepthSensor::Step and the bare chain
+// on the same frames, per repeat. The table tilts by 6 mm across the image; fingertips (r 0.8 cm,
+// 14 mm thick) on a 5 x 2 grid and two palms (r 4 cm, top 5 cm up) sweep as the standard scenes'
+// contacts do (0.5 Hz, +-45% of a cell).
+MaybeError RunDepthScene(const BenchOptions& options, BenchReport& report) {
+  LevelParams params;
+  if (MaybeError s = ApplyOverrides(params, options.sets)) return s;
+  const cv::Size size(640, 480);
+  const double pxPerCm = size.width / params.table.width;
+  const double fps = params.physics.frameRate;
+  cv::Mat plane(size, CV_32F);
+  for (int v = 0; v < size.height; ++v)
+    for (int u = 0; u < size.width; ++u) plane.at<float>(v, u) = 1000.0f + 0.01f * u;
+  cv::RNG rng(43);
+  cv::Mat noise(size, CV_32F), mm;
+  auto render = [&](int64_t i, bool clear, cv::Mat& out) {
+    mm = plane.clone();
+    if (!clear) {
+      const double t = static_cast<double>(i) / fps;
+      const double sweep = 0.45 * std::sin(2.0 * kPi * 0.5 * t);
+      for (int k = 0; k < 10; ++k) {
+        const double cellW = params.table.width / 5, cellH = params.table.height / 2;
+        const double x = (k % 5 + 0.5 + sweep) * cellW, y = (k / 5 + 0.5) * cellH;
+        cv::circle(mm, cv::Point2d(x * pxPerCm, (params.table.height - y) * pxPerCm),
+                   static_cast<int>(0.8 * pxPerCm), cv::Scalar(1000.0 - 14.0), cv::FILLED);
+      }
+      for (int k = 0; k < 2; ++k) {
+        const double cellW = params.table.width / 2;
+        const double x = (k + 0.5 - sweep) * cellW, y = 0.5 * params.table.height;
+        cv::circle(mm, cv::Point2d(x * pxPerCm, (params.table.height - y) * pxPerCm),
+                   static_cast<int>(4.0 * pxPerCm), cv::Scalar(1000.0 - 50.0), cv::FILLED);
+      }
+    }
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.5);
+    mm += noise;
+    mm.convertTo(out, CV_16UC1);
+  };
+  const int learn = params.depth.surfaceFrames;
+  std::vector<cv::Mat> frames(static_cast<size_t>(learn + options.frames));
+  for (size_t i = 0; i < frames.size(); ++i)
+    render(static_cast<int64_t>(i), static_cast<int>(i) < learn, frames[i]);
+
+  std::vector<double> ours, bare;
+  for (int r = 0; r < options.repeat; ++r) {
+    DepthSensor sensor;
+    if (MaybeError s = sensor.Configure(params.depth, params.sensing, params.table, size)) return s;
+    for (size_t i = 0; i < frames.size(); ++i) {
+      const Stopwatch watch(options.clock);
+      Result<ContourFrame> f =
+          sensor.Step(frames[i], static_cast<int64_t>(i), static_cast<double>(i) / fps);
+      const double ms = watch.Ms();
+      if (!f.ok()) return f.error();
+      if (static_cast<int>(i) >= learn) ours.push_back(ms);
+    }
+    // the bare chain on the surface the sensor learned, its band the default lower edge
+    BareDepthChain chain(sensor.Surface(), 10.0 * params.depth.touchLow,
+                         10.0 * params.depth.touchHigh, params.sensing.morphology);
+    for (size_t i = static_cast<size_t>(learn); i < frames.size(); ++i) {
+      const Stopwatch watch(options.clock);
+      chain.Step(frames[i]);
+      bare.push_back(watch.Ms());
+    }
+  }
+  report.baselines.push_back(Baseline("depth_vs_bare_opencv", kDepthBenchScene, ours, bare));
+  return std::nullopt;
+}
+
+}  // namespace
+
 Result<BenchReport> RunBench(const BenchOptions& options) {
   // check every option before anything runs
   if (options.frames < 1) {
@@ -420,11 +507,17 @@ Result<BenchReport> RunBench(const BenchOptions& options) {
     return MakeError({}, "--repeat must be >= 1 (got " + std::to_string(options.repeat) + ")");
   }
   std::vector<const SceneDef*> scenes;
+  bool depth = options.scenes.empty();
   for (const std::string& name : options.scenes.empty() ? BenchSceneNames() : options.scenes) {
+    if (name == kDepthBenchScene) {
+      depth = true;
+      continue;
+    }
     const SceneDef* def = FindScene(name);
     if (def == nullptr) {
       std::string known;
       for (const std::string& n : BenchSceneNames()) known += (known.empty() ? "" : ", ") + n;
+      known += std::string(", ") + kDepthBenchScene;
       return MakeError({}, "--scenes: unknown scene '" + name + "' (scenes: " + known + ")");
     }
     scenes.push_back(def);
@@ -444,6 +537,7 @@ Result<BenchReport> RunBench(const BenchOptions& options) {
     failed = RunScene(*def, options, report);
     if (failed) break;
   }
+  if (!failed && depth) failed = RunDepthScene(options, report);
   cv::setNumThreads(threads);
   if (failed) return *failed;
   report.machine.loadEnd = LoadAverage();

@@ -12,6 +12,7 @@ std::vector<ParamSection> Sections(LevelParams& p) {
       {"sensing", [&p](ParamVisitor& v) { Describe(p.sensing, v); }},
       {"tracking", [&p](ParamVisitor& v) { Describe(p.tracking, v); }},
       {"camera", [&p](ParamVisitor& v) { Describe(p.camera, v); }},
+      {"depth", [&p](ParamVisitor& v) { Describe(p.depth, v); }},
   };
 }
 

@@ -25,6 +25,11 @@ MaybeError Simulation::Start(const Level& level, const LevelParams& params,
     return s;
   }
   next.m_sensor.SetWholeStages(options.wholeStages);
+  if (MaybeError s =
+          next.m_depthSensor.Configure(params.depth, params.sensing, params.table, size)) {
+    if (s->loc.file.empty()) s->loc.file = level.path;
+    return s;
+  }
   // the synthetic camera knows its clear table exactly: it serves as the captured background,
   // unless the sensing parameters ask to capture one from the first frames
   if (options.cameraBackground && params.sensing.backgroundFrames == 0 &&
@@ -61,6 +66,7 @@ Result<RetuneReport> Simulation::Retune(const LevelParams& params) {
   // every stage takes the change in place (the fixed keys and ranges were checked above, so none
   // rejects it)
   if (MaybeError s = m_sensor.SetParams(params.sensing)) return *s;
+  if (MaybeError s = m_depthSensor.SetParams(params.depth, params.sensing)) return *s;
   if (MaybeError s = m_camera->SetParams(params.camera)) return *s;
   if (MaybeError s = m_world.SetParams(params.physics)) return *s;
   if (MaybeError s = m_tracker.SetParams(params.tracking)) return *s;
@@ -165,11 +171,14 @@ MaybeError Simulation::Process(const cv::Mat& frame) {
   stats.time = Time();
   const bool instant = m_params.proxies.mode == ProxyMode::kInstant;
 
-  // sensing: frame -> contours in table cm
+  // sensing: frame -> contours in table cm; depth frames through the depth chain
   Stopwatch watch(m_options.stageClock);
-  Result<ContourFrame> sensed = m_sensor.Step(frame, m_frame, stats.time, instant);
+  const bool depth = frame.type() == CV_16UC1;
+  Result<ContourFrame> sensed = depth ? m_depthSensor.Step(frame, m_frame, stats.time)
+                                      : m_sensor.Step(frame, m_frame, stats.time, instant);
   if (!sensed.ok()) return sensed.error();
   m_contours = std::move(sensed.value());
+  if (depth && instant) FillTableImage();
   ProcessContours(stats, watch.Ms());
   return std::nullopt;
 }

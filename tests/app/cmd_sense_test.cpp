@@ -12,6 +12,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <arpa/inet.h>
 #include <cctype>
@@ -149,6 +150,74 @@ TEST(SenseCommand, FolderOfImagesAndCalibrationFile) {
   ASSERT_EQ(linear.exitCode, 0);
   const Vec2 uncalibrated = Centroid(Lines(linear.output)[3]);
   EXPECT_GT((uncalibrated - finger.pose.pos).norm(), 0.3);
+}
+
+// the number after `key` in a JSON line (-1e9 when absent)
+double NumberAfter(const std::string& line, const std::string& key) {
+  const size_t at = line.find(key);
+  if (at == std::string::npos) return -1e9;
+  return std::strtod(line.c_str() + at + key.size(), nullptr);
+}
+
+TEST(SenseCommand, DepthFolderPrintsContactsAndHoverWithHeights) {
+  // 16-bit PNGs in mm (depth:DIR): a table 1 m away with 1.5 mm of noise, read for 15 frames
+  // (the surface, [depth] surface_frames), then a fingertip touching (a disk of 0.8 cm, its top
+  // 14 mm up) at table (20, 15) cm and a palm hovering (a disk of 4 cm, its top 50 mm up) at
+  // (45, 30) cm; the image maps linearly onto the 61 x 46 cm table
+  namespace fs = std::filesystem;
+  const std::string dir = ::testing::TempDir() + "/sense_depth";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const double pxPerCm = 640.0 / 61.0, pyPerCm = 480.0 / 46.0;
+  cv::RNG rng(5);
+  for (int i = 0; i < 18; ++i) {
+    cv::Mat mm(480, 640, CV_32F, cv::Scalar(1000.0));
+    if (i >= 15) {
+      // pixel (u, v) sees table ((u + 0.5) 61 / 640, 46 - (v + 0.5) 46 / 480); 4 bits of
+      // sub-pixel position
+      auto disk = [&](double x, double y, double r, double topMm) {
+        const cv::Point centre(static_cast<int>(std::lround((x * pxPerCm - 0.5) * 16)),
+                               static_cast<int>(std::lround(((46.0 - y) * pyPerCm - 0.5) * 16)));
+        cv::circle(mm, centre, static_cast<int>(std::lround(r * pxPerCm * 16)),
+                   cv::Scalar(1000.0 - topMm), cv::FILLED, cv::LINE_8, 4);
+      };
+      disk(20.0, 15.0, 0.8, 14.0);
+      disk(45.0, 30.0, 4.0, 50.0);
+    }
+    cv::Mat noise(mm.size(), CV_32F);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 1.5);
+    mm += noise;
+    cv::Mat out;
+    mm.convertTo(out, CV_16UC1);
+    char name[32];
+    std::snprintf(name, sizeof name, "/d%02d.png", i);
+    ASSERT_TRUE(cv::imwrite(dir + name, out));
+  }
+  const auto r = RunProxygrasp("sense depth:" + dir);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const std::vector<std::string> lines = Lines(r.output);
+  ASSERT_EQ(lines.size(), 18u);
+  EXPECT_EQ(lines[14], "{\"frame\": 14, \"contacts\": [], \"merges\": 0, \"splits\": 0}");
+  for (size_t i = 15; i < 18; ++i) {
+    const std::string& line = lines[i];
+    EXPECT_EQ(Count(line, "\"id\""), 1) << line.substr(0, 300);
+    // the fingertip: its centre within half a pixel (0.05 cm), its mean height 1.4 cm within
+    // 1 mm (the median of 20 or more pixels of 1.5 mm noise: DepthSensor's tests), a height for
+    // every contour point
+    EXPECT_LT((Centroid(line) - Vec2(20.0, 15.0)).norm(), 0.05) << line.substr(0, 300);
+    EXPECT_NEAR(NumberAfter(line, "\"height\": "), 1.4, 0.1) << line.substr(0, 300);
+    EXPECT_THAT(line, HasSubstr("\"heights\": ["));
+    const size_t heights = line.find("\"heights\": [");
+    const size_t contour = line.find("\"contour\": [");
+    ASSERT_NE(contour, std::string::npos);
+    const int points = Count(line.substr(contour, line.find("]]", contour) - contour), "[") - 1;
+    EXPECT_EQ(Count(line.substr(heights, line.find(']', heights) - heights), ",") + 1, points);
+    // the palm: one hover region, its mean height 5 cm
+    const size_t hover = line.find("\"hover\": [");
+    ASSERT_NE(hover, std::string::npos) << line.substr(0, 300);
+    EXPECT_NEAR(NumberAfter(line.substr(hover), "\"height\": "), 5.0, 0.1);
+    EXPECT_LT((Centroid(line.substr(hover)) - Vec2(45.0, 30.0)).norm(), 0.05);
+  }
 }
 
 TEST(SenseCommand, CameraThatCannotBeOpened) {

@@ -15,7 +15,7 @@ TEST(LevelParams, SectionsCoverEveryStage) {
     EXPECT_FALSE(ListFields(s).empty()) << s.name;
   }
   EXPECT_EQ(names, (std::set<std::string>{"table", "physics", "proxies", "sensing", "tracking",
-                                          "camera"}));
+                                          "camera", "depth"}));
 }
 
 TEST(LevelParams, KeysAreUniqueWithinASection) {

@@ -42,6 +42,29 @@ class BareSensingChain {
   std::vector<std::vector<cv::Point>> m_contours;
 };
 
+/// The depth chain as bare OpenCV calls (issue 43): the frame less the surface, the touch band
+/// thresholded, the opening and findContours; no learning, hover, heights or table mapping. The
+/// baseline DepthSensor is compared with.
+class BareDepthChain {
+ public:
+  /// surfaceMm: CV_32F, mm; the band in mm above it; the opening's radius in pixels.
+  BareDepthChain(const cv::Mat& surfaceMm, double lowMm, double highMm, int morphology);
+  /// Runs the chain on one CV_16UC1 frame (mm) of the surface's size; returns the contours found.
+  size_t Step(const cv::Mat& depthMm);
+
+ private:
+  cv::Mat m_surface;
+  double m_low = 0.0, m_high = 0.0;
+  cv::Mat m_kernel;
+  cv::Mat m_float, m_height, m_binary;
+  std::vector<std::vector<cv::Point>> m_contours;
+};
+
+/// The depth scene, run after the standard ones unless --scenes leaves it out: 640x480 depth
+/// frames of a table 1 m away (1.5 mm noise), 10 fingertips touching and 2 palms hovering 4 cm
+/// above it, all sweeping; only its sensing is timed, against BareDepthChain.
+inline constexpr const char* kDepthBenchScene = "depth_touch";
+
 /// The standard scenes, in the order a bench runs them: "fingertips10_s3", "flat_hands2_s3_k8",
 /// "five_hands4_s3", "flat_hands8".
 std::vector<std::string> BenchSceneNames();
@@ -84,7 +107,8 @@ struct BenchScene {
 
 /// A baseline beside the stage it is compared with, on the same frames: medians per frame, ms.
 struct BenchBaseline {
-  std::string name;   ///< "sensing_vs_bare_opencv", "physics_vs_box2d", "matching_vs_exhaustive"
+  std::string name;   ///< "sensing_vs_bare_opencv", "physics_vs_box2d", "matching_vs_exhaustive",
+                      ///< "depth_vs_bare_opencv"
   std::string scene;  ///< the scene whose frames both ran on
   double oursMs = 0.0;
   double bareMs = 0.0;

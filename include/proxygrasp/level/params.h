@@ -4,6 +4,7 @@
 #include "proxygrasp/core/params.h"
 #include "proxygrasp/physics/types.h"
 #include "proxygrasp/proxies/types.h"
+#include "proxygrasp/sensing/depth_sensor.h"
 #include "proxygrasp/sensing/types.h"
 #include "proxygrasp/tracking/types.h"
 
@@ -20,6 +21,7 @@ struct LevelParams {
   SensingParams sensing;
   TrackingParams tracking;
   SyntheticCameraParams camera;
+  DepthParams depth;
 };
 
 /// The sections of p, in the order docs/levels.md lists them. The sections refer to p.

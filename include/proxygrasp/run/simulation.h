@@ -10,6 +10,7 @@
 #include "proxygrasp/level/params.h"
 #include "proxygrasp/physics/layered_world.h"
 #include "proxygrasp/proxies/proxy_stage.h"
+#include "proxygrasp/sensing/depth_sensor.h"
 #include "proxygrasp/sensing/sensor.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 #include "proxygrasp/tracking/tracker.h"
@@ -93,7 +94,8 @@ class Simulation {
   MaybeError StepScript();
   /// One frame whose contacts are these shapes, drawn by the synthetic camera.
   MaybeError StepShapes(std::span<const ContactShape> shapes);
-  /// One frame from a camera image (CV_8UC1 of the sensed size); errors name the frame.
+  /// One frame from a camera image (CV_8UC1 of the sensed size), or a depth frame (CV_16UC1, mm)
+  /// for the depth chain (DepthSensor); errors name the frame.
   MaybeError StepImage(const cv::Mat& frame);
   /// One frame whose contours (table cm) were sensed elsewhere: tracking onwards.
   MaybeError StepContours(const ContourFrame& contours);
@@ -120,6 +122,8 @@ class Simulation {
   const SyntheticCamera& camera() const { return *m_camera; }
   /// The sensing stage, with the images of its filter chain for the last frame.
   const Sensor& sensor() const { return m_sensor; }
+  /// The depth sensing stage, which takes the depth frames (CV_16UC1).
+  const DepthSensor& depthSensor() const { return m_depthSensor; }
   /// Whether the sensor's stage images cover the whole frame from the next frame on
   /// (SimulationOptions::wholeStages).
   void SetWholeStages(bool whole) { m_sensor.SetWholeStages(whole); }
@@ -152,6 +156,7 @@ class Simulation {
   LevelParams m_params;
   std::unique_ptr<SyntheticCamera> m_camera;
   Sensor m_sensor;
+  DepthSensor m_depthSensor;
   Tracker m_tracker;
   ProxyStage m_proxies;
   LayeredWorld m_world;

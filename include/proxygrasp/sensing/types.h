@@ -123,6 +123,9 @@ struct Blob {
   double area = 0.0;              ///< cm^2
   Vec2 boundsMin = Vec2::Zero();  ///< bounding box corner, cm
   Vec2 boundsMax = Vec2::Zero();  ///< bounding box corner, cm
+  /// Depth cameras: the height measured above the surface at each contour point, cm (one per
+  /// column of `contour`); empty for the IR camera.
+  std::vector<double> heights;
 };
 
 /// A table-aligned image: pixel (u, v) covers table point origin + (u + 0.5, v + 0.5) * cmPerPixel.
@@ -137,6 +140,8 @@ struct ContourFrame {
   int64_t index = 0;        ///< frame number from 0
   double time = 0.0;        ///< s
   std::vector<Blob> blobs;  ///< one per connected component, largest first
+  std::vector<Blob> hover;  ///< depth cameras: regions above the touch band (hands over the
+                            ///< table), with heights, largest first; empty for the IR camera
   TableImage tableImage;    ///< the contact image on the table grid (instant mode, drawing)
 };
 

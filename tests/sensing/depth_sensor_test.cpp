@@ -1,0 +1,484 @@
+#include "proxygrasp/sensing/depth_sensor.h"
+
+#include "real_data.h"
+
+#include "proxygrasp/sensing/depth_source.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace pg {
+namespace {
+
+using ::testing::HasSubstr;
+
+// The scenes: a depth camera looking down at a table about 1 m away, the image mapped linearly
+// onto the default 61 x 46 cm table (no calibration: image edges = table edges, top of the image
+// = the far edge, y up), so that pixel (u, v) sees table point ((u + 0.5) W / cols,
+// H - (v + 0.5) H / rows). Shapes stand on the table with flat tops at a known height above it.
+// Noise: Gaussian of 1.5 mm, a Kinect v1's at 1 m (Khoshelham and Elberink 2012), the readings
+// rounded to whole mm as a depth camera delivers them.
+constexpr double kFps = 30.0;
+constexpr double kNoiseMm = 1.5;
+
+struct Shape {
+  Vec2 a, b;            // a capsule's axis, table cm (a == b: a disk)
+  double radius = 0.8;  // cm
+  double topMm = 14.0;  // height of its flat top above the table, mm
+};
+
+double DistanceToAxis(const Shape& s, const Vec2& p) {
+  const Vec2 ab = s.b - s.a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - s.a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (s.a + t * ab)).norm();
+}
+
+class Scene {
+ public:
+  explicit Scene(cv::Size size = {640, 480}, uint64_t seed = 7) : m_size(size), m_rng(seed) {}
+
+  Vec2 TableOf(int u, int v) const {
+    return Vec2((u + 0.5) * m_table.width / m_size.width,
+                m_table.height - (v + 0.5) * m_table.height / m_size.height);
+  }
+  // the table's distance from the camera at pixel (u, v), mm: 1 m, tilted by 6 mm across the
+  // image and 3 mm down it, plus `rise` (negative: nearer the camera)
+  double TableMm(int u, int v) const { return 1000.0 + 0.01 * u + 0.00625 * v + m_offsetMm; }
+
+  void SetOffset(double mm) { m_offsetMm = mm; }
+  // a rectangle of pixels without a reading (0)
+  void SetHole(cv::Rect hole) { m_hole = hole; }
+
+  cv::Mat Render(const std::vector<Shape>& shapes, double noiseMm = kNoiseMm) {
+    cv::Mat mm(m_size, CV_64F);
+    for (int v = 0; v < m_size.height; ++v) {
+      double* row = mm.ptr<double>(v);
+      for (int u = 0; u < m_size.width; ++u) {
+        double top = 0.0;
+        const Vec2 p = TableOf(u, v);
+        for (const Shape& s : shapes)
+          if (DistanceToAxis(s, p) <= s.radius) top = std::max(top, s.topMm);
+        row[u] = TableMm(u, v) - top;
+      }
+    }
+    cv::Mat noise(m_size, CV_64F);
+    m_rng.fill(noise, cv::RNG::NORMAL, 0.0, noiseMm);
+    mm += noise;
+    cv::Mat out;
+    mm.convertTo(out, CV_16UC1);  // rounds to whole mm
+    if (m_hole.area() > 0) out(m_hole).setTo(0);
+    return out;
+  }
+
+  cv::Size size() const { return m_size; }
+  const TableParams& table() const { return m_table; }
+
+ private:
+  cv::Size m_size;
+  TableParams m_table;
+  cv::RNG m_rng;
+  double m_offsetMm = 0.0;
+  cv::Rect m_hole;
+};
+
+DepthSensor Configured(cv::Size size, const DepthParams& depth = {}) {
+  DepthSensor sensor;
+  const MaybeError s = sensor.Configure(depth, SensingParams(), TableParams(), size);
+  EXPECT_FALSE(s) << s->Format();
+  return sensor;
+}
+
+// steps the sensor over frames index .. index + n - 1 of a scene; returns the last frame's output
+ContourFrame StepFrames(DepthSensor& sensor, Scene& scene, const std::vector<Shape>& shapes,
+                        int64_t& index, int n,
+                        const std::function<void(const ContourFrame&)>& each = {}) {
+  ContourFrame last;
+  for (int i = 0; i < n; ++i, ++index) {
+    Result<ContourFrame> out =
+        sensor.Step(scene.Render(shapes), index, static_cast<double>(index) / kFps);
+    EXPECT_TRUE(out.ok()) << out.error().Format();
+    if (!out.ok()) return last;
+    last = std::move(out.value());
+    if (each) each(last);
+  }
+  return last;
+}
+
+double MeanHeight(const Blob& b) {
+  double sum = 0.0;
+  for (double h : b.heights) sum += h;
+  return b.heights.empty() ? 0.0 : sum / static_cast<double>(b.heights.size());
+}
+
+TEST(DepthSensor, ReportsNothingWhileTheSurfaceIsLearned) {
+  Scene scene;
+  DepthSensor sensor = Configured(scene.size());
+  int64_t index = 0;
+  // even a fingertip on the table: the first surface_frames frames are the surface
+  const std::vector<Shape> finger = {{Vec2(20, 15), Vec2(20, 15)}};
+  for (int i = 0; i < DepthParams().surfaceFrames; ++i) {
+    EXPECT_FALSE(sensor.HasSurface());
+    const ContourFrame f = StepFrames(sensor, scene, finger, index, 1);
+    EXPECT_TRUE(f.blobs.empty());
+    EXPECT_TRUE(f.hover.empty());
+  }
+  EXPECT_TRUE(sensor.HasSurface());
+}
+
+TEST(DepthSensor, FingertipTouchingIsFoundWithItsContourAndHeight) {
+  Scene scene;
+  DepthSensor sensor = Configured(scene.size());
+  int64_t index = 0;
+  StepFrames(sensor, scene, {}, index, DepthParams().surfaceFrames);
+  ASSERT_TRUE(sensor.HasSurface());
+
+  // a fingertip touching: a disk of radius 0.8 cm whose top is 14 mm above the table (a finger's
+  // thickness), and a finger lying flat (a capsule 4 cm long, radius 0.7 cm, top 12 mm)
+  const Shape tip{Vec2(20, 15), Vec2(20, 15), 0.8, 14.0};
+  const Shape flat{Vec2(35, 30), Vec2(39, 32), 0.7, 12.0};
+  double tipSq = 0.0, flatSq = 0.0;
+  int points = 0, flatPoints = 0, frames = 0;
+  StepFrames(sensor, scene, {tip, flat}, index, 20, [&](const ContourFrame& f) {
+    ++frames;
+    ASSERT_EQ(f.blobs.size(), 2u);
+    EXPECT_TRUE(f.hover.empty());
+    // largest first: the capsule (8.0 cm^2), then the disk (2.0 cm^2)
+    const Blob& finger = f.blobs[0];
+    const Blob& b = f.blobs[1];
+    // Contour tolerance: the region is the pixels whose centres lie on the shape, so its
+    // pixel-centre border runs up to 1 px inside the true outline, and moved out by half a pixel
+    // it lies within half a pixel either side of it (rms about 0.3 px); the resampling's chords
+    // cut 0.3 cm arcs of a 0.7 cm circle by 0.016 cm. The noise adds notches: a border pixel
+    // whose reading falls below the band's lower edge (1% of them for a top 12 mm up: 6 mm down
+    // is 4 deviations, and a pixel's deviation, measured over 15 frames, can be 1.5 times too
+    // high) leaves the region, and the opening (a 3x3 cross) takes the pixels beside it: up to
+    // 2 px deep. Bounds: rms 0.5 px (0.05 cm) and every point within 2.5 px (0.24 cm).
+    double sq = 0.0;
+    for (Eigen::Index k = 0; k < b.contour.cols(); ++k) {
+      const double e = (b.contour.col(k) - tip.a).norm() - tip.radius;
+      EXPECT_LT(std::abs(e), 0.24) << k;
+      sq += e * e;
+    }
+    for (Eigen::Index k = 0; k < finger.contour.cols(); ++k) {
+      const double e = DistanceToAxis(flat, finger.contour.col(k)) - flat.radius;
+      EXPECT_LT(std::abs(e), 0.24) << k;
+      sq += e * e;
+    }
+    EXPECT_LT(std::sqrt(sq / static_cast<double>(b.contour.cols() + finger.contour.cols())), 0.05);
+    // the centroid of a symmetric region: within half a pixel of the centre
+    EXPECT_NEAR((b.centroid - tip.a).norm(), 0.0, 0.05);
+    // its area within 0.5 px of the radius: 2 pi r 0.05 cm = 0.25 cm^2
+    EXPECT_NEAR(b.area, M_PI * 0.8 * 0.8, 0.25);
+    // one height per contour point, cm
+    ASSERT_EQ(b.heights.size(), static_cast<size_t>(b.contour.cols()));
+    ASSERT_EQ(finger.heights.size(), static_cast<size_t>(finger.contour.cols()));
+    for (double h : b.heights) tipSq += (h - 1.4) * (h - 1.4);
+    for (double h : finger.heights) flatSq += (h - 1.2) * (h - 1.2);
+    points += static_cast<int>(b.heights.size());
+    flatPoints += static_cast<int>(finger.heights.size());
+  });
+  EXPECT_EQ(frames, 20);
+  // Heights: the issue asks 5 mm rms. Expected far less: each point's height is the median of
+  // the 30 to 80 region pixels within 0.5 cm of it, each read with 1.5 mm of noise against a
+  // surface averaged over 15 frames (0.4 mm): 1.25 x 1.55 / sqrt(30) = 0.35 mm at most; bound
+  // 1 mm, about three times that.
+  EXPECT_LT(std::sqrt(tipSq / points), 0.1);
+  EXPECT_LT(std::sqrt(flatSq / flatPoints), 0.1);
+}
+
+TEST(DepthSensor, FingertipHoveringThreeCentimetresOrMoreIsHoverNotTouch) {
+  for (const double underside : {30.0, 50.0, 100.0}) {
+    Scene scene;
+    DepthSensor sensor = Configured(scene.size());
+    int64_t index = 0;
+    StepFrames(sensor, scene, {}, index, DepthParams().surfaceFrames);
+    // the same fingertip 14 mm thick, its underside `underside` mm above the table
+    const Shape tip{Vec2(30, 20), Vec2(30, 20), 0.8, underside + 14.0};
+    StepFrames(sensor, scene, {tip}, index, 20, [&](const ContourFrame& f) {
+      EXPECT_TRUE(f.blobs.empty()) << underside << " mm";
+      ASSERT_EQ(f.hover.size(), 1u) << underside << " mm";
+      // its mean height: the top, within the same 1 mm as a touching fingertip's
+      EXPECT_NEAR(MeanHeight(f.hover[0]), 0.1 * tip.topMm, 0.1);
+      EXPECT_NEAR((f.hover[0].centroid - tip.a).norm(), 0.0, 0.05);
+    });
+  }
+}
+
+TEST(DepthSensor, AboveTheCeilingIsNeitherTouchNorHover) {
+  Scene scene;
+  DepthSensor sensor = Configured(scene.size());
+  int64_t index = 0;
+  StepFrames(sensor, scene, {}, index, DepthParams().surfaceFrames);
+  // a head leaning 40 cm above the table (hover_ceiling 30 cm)
+  const ContourFrame f =
+      StepFrames(sensor, scene, {{Vec2(30, 20), Vec2(35, 20), 6.0, 400.0}}, index, 3);
+  EXPECT_TRUE(f.blobs.empty());
+  EXPECT_TRUE(f.hover.empty());
+}
+
+// 40 s of a table that rises towards the camera by 0.2 mm/s, with learning on or off
+int ContactsWhileTheTableRises(double learning, double* lagMm) {
+  Scene scene(cv::Size(160, 120));
+  DepthParams depth;
+  depth.surfaceLearning = learning;
+  DepthSensor sensor = Configured(scene.size(), depth);
+  int64_t index = 0;
+  StepFrames(sensor, scene, {}, index, depth.surfaceFrames);
+  int contacts = 0;
+  for (int i = 0; i < 40 * static_cast<int>(kFps); ++i) {
+    scene.SetOffset(-0.2 * (static_cast<double>(index) / kFps));
+    const ContourFrame f = StepFrames(sensor, scene, {}, index, 1);
+    contacts += static_cast<int>(f.blobs.size());
+  }
+  // the surface's lag behind the table, mean over the image, mm
+  double sum = 0.0;
+  for (int v = 0; v < 120; ++v)
+    for (int u = 0; u < 160; ++u) sum += sensor.Surface().at<float>(v, u) - scene.TableMm(u, v);
+  *lagMm = sum / (160.0 * 120.0);
+  return contacts;
+}
+
+TEST(DepthSensor, SurfaceFollowsATableThatChangesSlowly) {
+  double lag = 0.0;
+  // A surface learned with a time constant of 10 s follows a ramp of 0.2 mm/s 0.2 x 10 = 2 mm
+  // behind it (the steady lag of a first-order filter), below the band's lower edge (5 mm): no
+  // contact. The mean over 19,200 pixels of the noise is nothing against it; the bound is
+  // 2 +- 0.5 mm, what the learning's one band of rows in four per frame (each learning at the
+  // rate for the time since it last did) may add or take.
+  EXPECT_EQ(ContactsWhileTheTableRises(10.0, &lag), 0);
+  EXPECT_NEAR(lag, 2.0, 0.5);
+  // the same with the surface fixed: 8 mm up at the end, the whole table is in the band
+  double fixedLag = 0.0;
+  EXPECT_GT(ContactsWhileTheTableRises(0.0, &fixedLag), 0);
+  EXPECT_NEAR(fixedLag, 8.0, 0.5);
+}
+
+TEST(DepthSensor, SurfaceDoesNotLearnAHandHeldStill) {
+  Scene scene(cv::Size(320, 240));
+  DepthSensor sensor = Configured(scene.size());
+  int64_t index = 0;
+  StepFrames(sensor, scene, {}, index, DepthParams().surfaceFrames);
+  const cv::Mat before = sensor.Surface().clone();
+  // a palm hovering 2 cm above the table (top 4 cm) and a fingertip touching, held still for
+  // 60 s: six of the surface's time constants (10 s), which would learn them both to within
+  // e^-6 = 0.25% if it learned where something is near
+  const Shape palm{Vec2(15, 20), Vec2(15, 26), 4.0, 40.0};
+  const Shape tip{Vec2(40, 20), Vec2(40, 20), 0.8, 14.0};
+  const ContourFrame held = StepFrames(sensor, scene, {palm, tip}, index, 60 * 30);
+  ASSERT_EQ(held.blobs.size(), 1u);
+  ASSERT_EQ(held.hover.size(), 1u);
+  EXPECT_NEAR(MeanHeight(held.blobs[0]), 1.4, 0.1);
+  EXPECT_NEAR(MeanHeight(held.hover[0]), 4.0, 0.1);
+  // the surface under them (more than 0.3 cm inside their outlines) has not moved: where
+  // something is near it does not learn at all, and learned it would have come up by tens of mm
+  double worst = 0.0;
+  int under = 0;
+  for (int v = 0; v < scene.size().height; ++v)
+    for (int u = 0; u < scene.size().width; ++u) {
+      const Vec2 p = scene.TableOf(u, v);
+      if (DistanceToAxis(palm, p) > palm.radius - 0.3 && DistanceToAxis(tip, p) > tip.radius - 0.3)
+        continue;
+      ++under;
+      worst = std::max<double>(worst,
+                               std::abs(sensor.Surface().at<float>(v, u) - before.at<float>(v, u)));
+    }
+  EXPECT_GT(under, 2000);
+  EXPECT_LT(worst, 0.5);
+  // gone: nothing is left behind
+  const ContourFrame after = StepFrames(sensor, scene, {}, index, 1);
+  EXPECT_TRUE(after.blobs.empty());
+  EXPECT_TRUE(after.hover.empty());
+}
+
+TEST(DepthSensor, SomethingThatLeavesTheTableIsForgottenQuickly) {
+  Scene scene(cv::Size(320, 240));
+  DepthSensor sensor = Configured(scene.size());
+  int64_t index = 0;
+  // a book 3 cm thick on the table while the surface is learned, then taken away: where it was,
+  // the table reads 3 cm farther than the surface, which follows with surface_recovery (1 s):
+  // 3 cm x e^-(t / 1 s) is below 1 mm after 3.4 s
+  const Shape book{Vec2(30, 20), Vec2(36, 20), 5.0, 30.0};
+  StepFrames(sensor, scene, {book}, index, DepthParams().surfaceFrames);
+  int contacts = 0;
+  StepFrames(sensor, scene, {}, index, 20 * 30, [&](const ContourFrame& f) {
+    contacts += static_cast<int>(f.blobs.size() + f.hover.size());
+  });
+  EXPECT_EQ(contacts, 0);  // a table farther than the surface is never above it
+  // Where the book was, the surface follows at surface_recovery while the table reads more than
+  // the band's lower edge (noise_factor x 1.5 mm = 6 mm) farther than it, from 30 mm to 6 mm in
+  // ln 5 = 1.6 s; the last 6 mm at surface_learning (10 s): 6 e^-1.84 = 1.0 mm left after 20 s.
+  // (A surface nearer the camera than the table gives no false touch meanwhile.) Bound: the
+  // surface between 1 mm below the table and 3 mm above it.
+  const int u = 320 * 33 / 61, v = 240 - 240 * 20 / 46;  // the book's centre
+  const double above = scene.TableMm(u, v) - sensor.Surface().at<float>(v, u);
+  EXPECT_GT(above, -1.0);
+  EXPECT_LT(above, 3.0);
+  // a fingertip touching there is found: it reads 11 mm or more above the surface, and the
+  // deviation there, inflated while the surface lagged, is back below 2.5 mm (band edge 10 mm)
+  const ContourFrame f =
+      StepFrames(sensor, scene, {{Vec2(33, 20), Vec2(33, 20), 0.8, 14.0}}, index, 1);
+  ASSERT_EQ(f.blobs.size(), 1u);
+  EXPECT_NEAR((f.blobs[0].centroid - Vec2(33, 20)).norm(), 0.0, 0.05);
+}
+
+TEST(FillHoles, FillsFromTheNeighboursOfATiltedPlane) {
+  // a plane of 0.2 mm per pixel across and 0.1 down, with a 40 x 30 px hole and every 7th pixel
+  // of another row missing
+  cv::Mat plane(120, 160, CV_32F), valid(120, 160, CV_8UC1, cv::Scalar(255));
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) plane.at<float>(y, x) = 1000.0f + 0.2f * x + 0.1f * y;
+  cv::Mat image = plane.clone();
+  image(cv::Rect(60, 40, 40, 30)).setTo(0.0f);
+  valid(cv::Rect(60, 40, 40, 30)).setTo(0);
+  for (int x = 3; x < 160; x += 7) {
+    image.at<float>(100, x) = 0.0f;
+    valid.at<uint8_t>(100, x) = 0;
+  }
+  FillHoles(image, valid);
+  // Valid pixels are kept as they were. A hole is filled by the mean of the valid pixels in the
+  // smallest box that holds enough of them: on a plane that mean is the plane at their
+  // centroid, which lies at most half the box (31 px wide for the 40 x 30 hole's middle) from
+  // the pixel: 15 px x 0.22 mm/px = 3.4 mm at worst; the isolated pixels (3x3 box, symmetric
+  // but for the missing one) are within 0.03 mm.
+  double worst = 0.0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) {
+      const double e = std::abs(image.at<float>(y, x) - plane.at<float>(y, x));
+      if (valid.at<uint8_t>(y, x)) {
+        ASSERT_EQ(e, 0.0);
+      }
+      worst = std::max(worst, e);
+      if (y == 100 && !valid.at<uint8_t>(y, x)) {
+        EXPECT_LT(e, 0.03) << x;
+      }
+    }
+  EXPECT_LT(worst, 3.4);
+  EXPECT_GT(cv::countNonZero(image), 120 * 160 - 1);
+}
+
+TEST(DepthSensor, HolesInTheSurfaceAreFilledAndTouchesFoundThere) {
+  Scene scene;
+  // the table reads nothing in a 30 x 30 px patch while the surface is learned
+  const cv::Rect hole(300, 200, 30, 30);
+  scene.SetHole(hole);
+  DepthSensor sensor = Configured(scene.size());
+  int64_t index = 0;
+  StepFrames(sensor, scene, {}, index, DepthParams().surfaceFrames);
+  // filled from its neighbours: the table tilts 0.012 mm/px, so the fill is within 0.2 mm of it
+  // (15 px x 0.012), plus the 0.4 mm of the surface's noise; bound 1 mm
+  for (int v = hole.y; v < hole.br().y; ++v)
+    for (int u = hole.x; u < hole.br().x; ++u)
+      ASSERT_NEAR(sensor.Surface().at<float>(v, u), scene.TableMm(u, v), 1.0) << u << "," << v;
+  // the patch reads again, with a fingertip touching in it: found with its height
+  scene.SetHole(cv::Rect());
+  const Vec2 at = scene.TableOf(315, 215);
+  const ContourFrame f = StepFrames(sensor, scene, {{at, at, 0.8, 14.0}}, index, 1);
+  ASSERT_EQ(f.blobs.size(), 1u);
+  EXPECT_NEAR((f.blobs[0].centroid - at).norm(), 0.0, 0.05);
+  EXPECT_NEAR(MeanHeight(f.blobs[0]), 1.4, 0.1);
+  // and a hole in a frame is neither touch nor hover
+  scene.SetHole(cv::Rect(100, 100, 50, 50));
+  const ContourFrame holed = StepFrames(sensor, scene, {}, index, 1);
+  EXPECT_TRUE(holed.blobs.empty());
+  EXPECT_TRUE(holed.hover.empty());
+}
+
+TEST(DepthSensor, WrongFrameTypeOrSizeIsAnErrorNamingTheFrame) {
+  DepthSensor sensor = Configured(cv::Size(64, 48));
+  const Result<ContourFrame> grey = sensor.Step(cv::Mat(48, 64, CV_8UC1, cv::Scalar(9)), 7, 0.2);
+  ASSERT_FALSE(grey.ok());
+  EXPECT_THAT(grey.error().Format(), HasSubstr("frame 7"));
+  EXPECT_THAT(grey.error().Format(), HasSubstr("CV_8UC1"));
+  EXPECT_THAT(grey.error().Format(), HasSubstr("CV_16UC1"));
+  const Result<ContourFrame> small =
+      sensor.Step(cv::Mat(24, 32, CV_16UC1, cv::Scalar(1000)), 8, 0.3);
+  ASSERT_FALSE(small.ok());
+  EXPECT_THAT(small.error().Format(), HasSubstr("frame 8"));
+  EXPECT_THAT(small.error().Format(), HasSubstr("32x24, expected 64x48"));
+  const Result<ContourFrame> empty = sensor.Step(cv::Mat(), 9, 0.4);
+  ASSERT_FALSE(empty.ok());
+  EXPECT_THAT(empty.error().Format(), HasSubstr("frame 9"));
+  DepthSensor unconfigured;
+  EXPECT_FALSE(unconfigured.Step(cv::Mat(48, 64, CV_16UC1), 0, 0.0).ok());
+}
+
+TEST(DepthSensor, BadParametersAreErrorsNamingTheKey) {
+  DepthSensor sensor;
+  DepthParams depth;
+  depth.touchHigh = 0.0;  // below its range (0.1 to 20 cm)
+  const MaybeError s = sensor.Configure(depth, SensingParams(), TableParams(), cv::Size(64, 48));
+  ASSERT_TRUE(s);
+  EXPECT_THAT(s->Format(), HasSubstr("touch_high"));
+  // surface_frames needs a new Configure
+  DepthSensor ok = Configured(cv::Size(64, 48));
+  DepthParams more;
+  more.surfaceFrames = 30;
+  const MaybeError restart = ok.SetParams(more, SensingParams());
+  ASSERT_TRUE(restart);
+  EXPECT_THAT(restart->Format(), HasSubstr("surface_frames"));
+}
+
+// the real recordings (../shared/real/depth/README.md): static scenes, nobody touching
+std::string RealDepthDir() {
+  const std::string root = test::RealDataDir("depth");
+  return root.empty() ? "" : root + "/depth";
+}
+
+std::vector<cv::Mat> ReadAll(const std::string& spec) {
+  std::vector<cv::Mat> frames;
+  Result<std::unique_ptr<FrameSource>> src = OpenFrameSource(spec);
+  EXPECT_TRUE(src) << src.error().Format();
+  if (!src) return frames;
+  cv::Mat frame;
+  while (src.value()->Read(frame) == FrameStatus::kOk) frames.push_back(frame.clone());
+  return frames;
+}
+
+// contacts and hover regions in the frames after the first `learn`, the surface learned from those
+int ContactsAfterLearning(const std::vector<cv::Mat>& frames, int learn, int* hover) {
+  DepthParams depth;
+  depth.surfaceFrames = learn;
+  DepthSensor sensor = Configured(frames.at(0).size(), depth);
+  int contacts = 0;
+  *hover = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    Result<ContourFrame> f =
+        sensor.Step(frames[i], static_cast<int64_t>(i), static_cast<double>(i) / kFps);
+    EXPECT_TRUE(f.ok()) << f.error().Format();
+    if (!f.ok()) continue;
+    contacts += static_cast<int>(f.value().blobs.size());
+    *hover += static_cast<int>(f.value().hover.size());
+  }
+  return contacts;
+}
+
+TEST(RealDepth, StaticScenesGiveNoContactOnceTheirSurfaceIsLearned) {
+  const std::string dir = RealDepthDir();
+  if (dir.empty())
+    GTEST_SKIP() << "../shared/real/depth is absent (a clone of the project alone): no real "
+                    "depth recordings; set PROXYGRASP_REAL_DATA to the folder that holds depth/";
+  // kinectcap: a room with a whiteboard and a wall about 1 m away, 4 frames of real Kinect v1
+  // noise and quantisation (2.9 mm a step at 1 m, more farther), 8% of pixels without a reading;
+  // learned from the first two, the other two have no contact and no hover
+  const std::vector<cv::Mat> room = ReadAll("fakenect:" + dir + "/kinectcap");
+  ASSERT_EQ(room.size(), 4u);
+  int hover = 0;
+  EXPECT_EQ(ContactsAfterLearning(room, 2, &hover), 0);
+  EXPECT_EQ(hover, 0);
+  // test.oni (through OpenNI2's file driver): a room, a person at the image's edge; learned from
+  // the first 6 of its 12 frames
+  if (!HaveOpenNi2()) GTEST_SKIP() << "not built with OpenNI2: test.oni not read";
+  const std::vector<cv::Mat> oni = ReadAll("oni:" + dir + "/test.oni");
+  ASSERT_EQ(oni.size(), 12u);
+  EXPECT_EQ(ContactsAfterLearning(oni, 6, &hover), 0);
+  EXPECT_EQ(hover, 0);
+}
+
+}  // namespace
+}  // namespace pg
