@@ -32,8 +32,20 @@ MaybeError Simulation::Start(const Level& level, const LevelParams& params,
   }
   // the synthetic camera knows its clear table exactly: it serves as the captured background,
   // unless the sensing parameters ask to capture one from the first frames
-  if (options.cameraBackground && params.sensing.backgroundFrames == 0 &&
-      !next.m_sensor.HasBackground()) {
+  if (params.camera.kind == CameraKind::kDepth) {
+    // The depth camera's clear table is its surface model, with the deviation its noise model
+    // gives at the table's depth: disparity_noise raw steps, and the rounding to whole steps
+    // (uniform over a step: 1/sqrt(12) of one) when disparity_steps is on
+    if (options.cameraBackground) {
+      cv::Mat surface;
+      next.m_camera->Background().convertTo(surface, CV_32F);
+      const double steps = std::sqrt(params.camera.disparityNoise * params.camera.disparityNoise +
+                                     (params.camera.disparitySteps ? 1.0 / 12.0 : 0.0));
+      const double noise = steps * KinectStepMm(10.0 * next.m_camera->cameraHeight());
+      if (MaybeError s = next.m_depthSensor.SetSurface(surface, noise)) return s;
+    }
+  } else if (options.cameraBackground && params.sensing.backgroundFrames == 0 &&
+             !next.m_sensor.HasBackground()) {
     if (MaybeError s = next.m_sensor.SetBackground(next.m_camera->Background())) return s;
     next.m_backgroundFromCamera = true;
   }

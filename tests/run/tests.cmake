@@ -16,6 +16,15 @@ foreach(level_name merge_grip split_grip third_finger_merge pinched_cylinder_ste
                          PROPERTIES LABELS "level;levels" TIMEOUT 300)
   endforeach()
 endforeach()
+# a level on the synthetic depth camera end to end (issue 43: the depth camera's frames through the
+# depth chain into tracking, proxies and physics): a fingertip pushing a box from the side, whose
+# expectations hold for any camera that finds the fingertip's outline
+foreach(seed 1 2 3)
+  add_test(NAME level.side_push.depth.seed${seed}
+           COMMAND proxygrasp run ${PROJECT_SOURCE_DIR}/levels/side_push.toml
+                   --set camera.kind=depth --set camera.seed=${seed})
+  set_tests_properties(level.side_push.depth.seed${seed} PROPERTIES LABELS "level;levels" TIMEOUT 300)
+endforeach()
 proxygrasp_tests(run
   TESTS simulation frame_input trace expectations plan overrides runner recording tuio_input
         tuio_output)
