@@ -2,6 +2,7 @@
 
 #include "proxygrasp/core/timer.h"
 #include "proxygrasp/level/script.h"
+#include "proxygrasp/sensing/depth_source.h"
 
 #include <opencv2/imgproc.hpp>
 

@@ -1,6 +1,7 @@
 #include "proxygrasp/sensing/depth_plane.h"
 
 #include "proxygrasp/core/rng.h"
+#include "proxygrasp/sensing/depth_source.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -50,7 +51,7 @@ TablePlane Oriented(Eigen::Vector3d n, const Eigen::Vector3d& on) {
 
 // A point's tolerance: the quantisation of its depth, or the floor.
 double Tolerance(const Eigen::Vector3d& p, const PlaneFitParams& params) {
-  return std::max(params.tolerance, params.toleranceSteps * KinectDepthStep(p.z()));
+  return std::max(params.tolerance, params.toleranceSteps * KinectStepMm(p.z()));
 }
 
 int CountInliers(const std::vector<Eigen::Vector3d>& points, const TablePlane& plane,
@@ -99,14 +100,6 @@ DepthIntrinsics DepthIntrinsics::KinectV1(cv::Size size) {
 
 Eigen::Vector3d BackProject(const DepthIntrinsics& k, double u, double v, double zMm) {
   return {(u - k.cx) * zMm / k.fx, (v - k.cy) * zMm / k.fy, zMm};
-}
-
-double KinectDepthStep(double zMm) {
-  // z = a tan(raw / b + c) with a = 123.6 mm, b = 2842.5: dz/draw = (a / b) sec^2 = (a / b)
-  // (1 + (z / a)^2)
-  constexpr double a = 123.6, b = 2842.5;
-  const double t = zMm / a;
-  return a / b * (1.0 + t * t);
 }
 
 double TablePlane::TiltDeg() const {
@@ -273,7 +266,7 @@ Result<TableRectangle> FindTableRectangle(const cv::Mat& depthMm, const DepthInt
       const double z = depthMm.type() == CV_16UC1 ? depthMm.at<uint16_t>(y, x)
                                                   : static_cast<double>(depthMm.at<float>(y, x));
       if (z > 0.0 && std::isfinite(z) &&
-          std::abs(h[x]) <= std::max(params.tolerance, params.toleranceSteps * KinectDepthStep(z)))
+          std::abs(h[x]) <= std::max(params.tolerance, params.toleranceSteps * KinectStepMm(z)))
         o[x] = 255;
     }
   }

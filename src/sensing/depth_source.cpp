@@ -148,15 +148,24 @@ Result<std::unique_ptr<FrameSource>> OpenDepthFolder(const std::string& dir) {
 
 double KinectRawToMm(int raw) {
   if (raw < 0 || raw >= kKinectNoReading) return 0.0;
-  const double z = 123.6 * std::tan(raw / 2842.5 + 1.1863);
+  const double z = kKinectFitScale * std::tan(raw / kKinectFitSpan + kKinectFitOffset);
   constexpr double kFarthest = 10000.0;  // mm; beyond, the fit is no longer a Kinect's reading
   return z > 0.0 && z <= kFarthest ? z : 0.0;
 }
 
+double KinectDisparity(double mm) {
+  return (std::atan(mm / kKinectFitScale) - kKinectFitOffset) * kKinectFitSpan;
+}
+
+double KinectStepMm(double mm) {
+  // d/draw of a tan(raw / b + c): (a / b) sec^2 = (a / b) (1 + (mm / a)^2)
+  const double t = mm / kKinectFitScale;
+  return kKinectFitScale * (1.0 + t * t) / kKinectFitSpan;
+}
+
 int KinectMmToRaw(double mm) {
   if (!(mm > 0.0)) return kKinectNoReading;
-  const double raw = (std::atan(mm / 123.6) - 1.1863) * 2842.5;
-  const int r = static_cast<int>(std::lround(raw));
+  const int r = static_cast<int>(std::lround(KinectDisparity(mm)));
   if (r < 0 || r >= kKinectNoReading) return kKinectNoReading;
   return KinectRawToMm(r) > 0.0 ? r : kKinectNoReading;
 }

@@ -25,11 +25,6 @@ constexpr double kKinectFovX = 57.0;
 constexpr double kKinectFovY = 43.0;
 constexpr double kKinectNearest = 80.0;
 
-// OpenKinect's fit z = kFitScale tan(raw / kFitSpan + kFitOffset), mm
-constexpr double kFitScale = 123.6;
-constexpr double kFitSpan = 2842.5;
-constexpr double kFitOffset = 1.1863;
-
 // an IR camera's view of a contact above the diffuser fades over this height, cm
 constexpr double kIrHoverFade = 0.5;
 
@@ -141,17 +136,6 @@ double DepthCameraHeight(const SyntheticCameraParams& params, const TableParams&
   const double acrossX = table.width / (2.0 * std::tan(DegToRad(0.5 * kKinectFovX)));
   const double acrossY = table.height / (2.0 * std::tan(DegToRad(0.5 * kKinectFovY)));
   return std::max({acrossX, acrossY, kKinectNearest + kDepthTallestBody});
-}
-
-double KinectDisparity(double mm) {
-  return (std::atan(mm / kFitScale) - kFitOffset) * kFitSpan;
-}
-
-double KinectStepMm(double mm) {
-  // d/draw of kFitScale tan(raw / kFitSpan + kFitOffset): kFitScale sec^2 / kFitSpan, with
-  // sec^2 = 1 + tan^2 = 1 + (mm / kFitScale)^2
-  const double t = mm / kFitScale;
-  return kFitScale * (1.0 + t * t) / kFitSpan;
 }
 
 double IrHoverDimming(double height) {
@@ -447,7 +431,7 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
                                                                      : kKinectNoReading;
         o[u] = raw < kKinectNoReading ? rawToMm[raw] : 0;
       } else {
-        const double mm = kFitScale * std::tan(disparity / kFitSpan + kFitOffset);
+        const double mm = kKinectFitScale * std::tan(disparity / kKinectFitSpan + kKinectFitOffset);
         o[u] = mm > 0.0 && mm < 65535.0 ? static_cast<uint16_t>(std::lround(mm)) : 0;
       }
     }

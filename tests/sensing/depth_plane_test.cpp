@@ -61,16 +61,16 @@ cv::Mat Render(const DepthIntrinsics& k, const TablePlane& plane, const std::vec
   return depth;
 }
 
-TEST(KinectDepthStep, IsTheDepthOfOneRawDisparityStep) {
+TEST(KinectStepMm, IsTheDepthOfOneRawDisparityStep) {
   // One raw step's change in depth is the fit's derivative at the step's middle, to third order:
   // a twenty-fourth of the third derivative over the first, under 1e-4 of the step at these depths.
   for (const double mm : {600.0, 1000.0, 1500.0, 2500.0}) {
     const int raw = KinectMmToRaw(mm);
     const double diff = KinectRawToMm(raw + 1) - KinectRawToMm(raw);
     const double middle = 123.6 * std::tan((raw + 0.5) / 2842.5 + 1.1863);
-    EXPECT_NEAR(KinectDepthStep(middle), diff, 1e-4 * diff) << mm;
+    EXPECT_NEAR(KinectStepMm(middle), diff, 1e-4 * diff) << mm;
   }
-  EXPECT_NEAR(KinectDepthStep(1000.0), 2.9, 0.1);  // ../shared/real/depth/README: 2.9 mm at 1 m
+  EXPECT_NEAR(KinectStepMm(1000.0), 2.9, 0.1);  // ../shared/real/depth/README: 2.9 mm at 1 m
 }
 
 TEST(DepthIntrinsics, KinectV1SeesFiftySevenDegreesAcross) {
@@ -348,7 +348,7 @@ double ShareOn(const cv::Mat& depth, const DepthIntrinsics& k, const TablePlane&
       const double z = depth.at<uint16_t>(y, x);
       if (z <= 0.0) continue;
       ++readings;
-      if (std::abs(height.at<float>(y, x)) <= std::max(5.0, 2.0 * KinectDepthStep(z))) ++on;
+      if (std::abs(height.at<float>(y, x)) <= std::max(5.0, 2.0 * KinectStepMm(z))) ++on;
     }
   }
   return readings > 0 ? static_cast<double>(on) / readings : 0.0;

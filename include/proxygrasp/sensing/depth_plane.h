@@ -36,10 +36,6 @@ struct DepthIntrinsics {
 /// The camera-frame point (mm; x right, y down, z along the optical axis) a depth pixel sees.
 Eigen::Vector3d BackProject(const DepthIntrinsics& k, double u, double v, double zMm);
 
-/// The quantisation step of a Kinect v1's depth at zMm (the change in depth of one raw disparity
-/// step: dz/draw = 0.1236 m / 2842.5 x (1 + (z / 0.1236 m)^2)), mm. 2.9 mm at 1 m.
-double KinectDepthStep(double zMm);
-
 /// A plane in the camera frame: the height of a point above it is normal . X + offset (mm),
 /// positive on the camera's side.
 struct TablePlane {

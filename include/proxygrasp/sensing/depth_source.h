@@ -21,6 +21,12 @@ namespace pg {
 /// Kinect v1's "no reading" raw disparity.
 inline constexpr int kKinectNoReading = 2047;
 
+/// OpenKinect's fit of Kinect v1's depth to its raw disparity: z = kKinectFitScale mm x
+/// tan(raw / kKinectFitSpan + kKinectFitOffset).
+inline constexpr double kKinectFitScale = 123.6;
+inline constexpr double kKinectFitSpan = 2842.5;
+inline constexpr double kKinectFitOffset = 1.1863;
+
 /// Kinect v1 raw 11-bit disparity to depth, mm (OpenKinect's fit: z = 0.1236 m x tan(raw / 2842.5
 /// + 1.1863)); 0 for kKinectNoReading and for raw values whose fit is not a depth in front of the
 /// camera (the fit's tangent passes pi/2 at raw 1084, about 10 m).
@@ -29,6 +35,11 @@ double KinectRawToMm(int raw);
 /// The raw disparity whose depth is nearest `mm` (the inverse of KinectRawToMm), or
 /// kKinectNoReading when no raw value in 0..2046 gives a depth within a step of it.
 int KinectMmToRaw(double mm);
+
+/// Kinect v1's raw disparity for a depth in mm as a real number (the inverse of the fit), and the
+/// depth one raw step spans there, mm (dz/draw: 2.89 mm at 1 m, growing with the distance squared).
+double KinectDisparity(double mm);
+double KinectStepMm(double mm);
 
 /// Converts a raw disparity image (CV_16UC1, 11-bit) to depth in mm (CV_16UC1, 0 = no reading).
 void KinectRawToMmImage(const cv::Mat& raw, cv::Mat& mm);

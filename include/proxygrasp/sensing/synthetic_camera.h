@@ -62,12 +62,6 @@ inline constexpr double kDepthTallestBody = 20.0;
 double BodyTopHeight(const ContactShape& shape, const SyntheticCameraParams& params,
                      const Vec2& tablePoint);
 
-/// Kinect v1's raw disparity for a depth in mm as a real number (the inverse of OpenKinect's fit
-/// z = 123.6 mm x tan(raw / 2842.5 + 1.1863), see KinectRawToMm), and the depth one raw step
-/// spans there, mm (2.89 mm at 1 m, growing with the distance squared).
-double KinectDisparity(double mm);
-double KinectStepMm(double mm);
-
 /// How much an IR camera under the table dims a contact `height` cm above the surface: exp(-height
 /// / 0.5 cm), so 1 at 0 (touching) and 0.14 at 1 cm. Until hovering is modelled (issue 44) this is
 /// all the IR camera does with a keyframe's height.
