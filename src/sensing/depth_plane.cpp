@@ -20,6 +20,27 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The depth at one pixel of a CV_16UC1 or CV_32FC1 image, mm (0 or not finite: no reading).
+double DepthAt(const cv::Mat& depthMm, int y, int x) {
+  return depthMm.type() == CV_16UC1 ? depthMm.at<uint16_t>(y, x)
+                                    : static_cast<double>(depthMm.at<float>(y, x));
+}
+
+bool IsReading(double zMm) {
+  return zMm > 0.0 && std::isfinite(zMm);
+}
+
+// normal . (x', y', 1) at image px (x, y), with x', y' the normalised image coordinates: a reading
+// z there lies z times this plus the offset above the plane (linear in z per pixel).
+struct RayDotNormal {
+  double ax, ay, a0;
+  RayDotNormal(const DepthIntrinsics& k, const TablePlane& plane)
+      : ax(plane.normal.x() / k.fx),
+        ay(plane.normal.y() / k.fy),
+        a0(plane.normal.z() - ax * k.cx - ay * k.cy) {}
+  double Row(int y) const { return ay * y + a0; }
+};
+
 // The sampled readings of a depth image as camera-frame points, mm.
 std::vector<Eigen::Vector3d> SamplePoints(const cv::Mat& depthMm, const DepthIntrinsics& k,
                                           int step) {
@@ -27,9 +48,8 @@ std::vector<Eigen::Vector3d> SamplePoints(const cv::Mat& depthMm, const DepthInt
   points.reserve(static_cast<size_t>((depthMm.rows / step + 1) * (depthMm.cols / step + 1)));
   for (int y = step / 2; y < depthMm.rows; y += step) {
     for (int x = step / 2; x < depthMm.cols; x += step) {
-      const double z = depthMm.type() == CV_16UC1 ? depthMm.at<uint16_t>(y, x)
-                                                  : static_cast<double>(depthMm.at<float>(y, x));
-      if (z > 0.0 && std::isfinite(z)) points.push_back(BackProject(k, x, y, z));
+      const double z = DepthAt(depthMm, y, x);
+      if (IsReading(z)) points.push_back(BackProject(k, x, y, z));
     }
   }
   return points;
@@ -49,9 +69,17 @@ TablePlane Oriented(Eigen::Vector3d n, const Eigen::Vector3d& on) {
   return plane;
 }
 
-// A point's tolerance: the quantisation of its depth, or the floor.
-double Tolerance(const Eigen::Vector3d& p, const PlaneFitParams& params) {
-  return std::max(params.tolerance, params.toleranceSteps * KinectStepMm(p.z()));
+// A reading's tolerance: the quantisation of its depth, or the floor, mm.
+double Tolerance(double zMm, const PlaneFitParams& params) {
+  return std::max(params.tolerance, params.toleranceSteps * KinectStepMm(zMm));
+}
+
+// The image of depth pixels as one check each: a CV_16UC1 or CV_32FC1 image, or an Error.
+MaybeError CheckDepthImage(const cv::Mat& depthMm) {
+  if (!depthMm.empty() && (depthMm.type() == CV_16UC1 || depthMm.type() == CV_32FC1)) return {};
+  return MakeError({"depth image"}, cv::typeToString(depthMm.type()) +
+                                        " image where depth in mm (16-bit or float, single "
+                                        "channel) is expected");
 }
 
 int CountInliers(const std::vector<Eigen::Vector3d>& points, const TablePlane& plane,
@@ -110,10 +138,7 @@ double TablePlane::TiltDeg() const {
 
 Result<TablePlane> FitTablePlane(const cv::Mat& depthMm, const DepthIntrinsics& k,
                                  const PlaneFitParams& params) {
-  if (depthMm.empty() || (depthMm.type() != CV_16UC1 && depthMm.type() != CV_32FC1))
-    return MakeError({"depth image"}, cv::typeToString(depthMm.type()) +
-                                          " image where depth in mm (16-bit or float, single "
-                                          "channel) is expected");
+  if (MaybeError bad = CheckDepthImage(depthMm)) return *bad;
   if (params.step < 1 || params.iterations < 1 || !(params.minShare > 0.0) || params.candidates < 1)
     return MakeError({"plane fit"},
                      "step, iterations and candidates must be at least 1, the share positive");
@@ -124,7 +149,7 @@ Result<TablePlane> FitTablePlane(const cv::Mat& depthMm, const DepthIntrinsics& 
                                           " sampled pixels have a reading (need " +
                                           std::to_string(kFewest) + "): no plane to fit");
   std::vector<double> tolerance(points.size());
-  for (size_t i = 0; i < points.size(); ++i) tolerance[i] = Tolerance(points[i], params);
+  for (size_t i = 0; i < points.size(); ++i) tolerance[i] = Tolerance(points[i].z(), params);
 
   // Sequential RANSAC: the plane through three random readings that holds the most of the
   // readings left, refitted by least squares; its readings are taken away and the next is sought.
@@ -219,25 +244,55 @@ void HeightAbovePlane(const cv::Mat& depthMm, const DepthIntrinsics& k, const Ta
                       cv::Mat& heightMm) {
   CV_Assert(depthMm.type() == CV_16UC1 || depthMm.type() == CV_32FC1);
   heightMm.create(depthMm.size(), CV_32FC1);
-  // normal . X + offset with X = z ((u - cx) / fx, (v - cy) / fy, 1): linear in z per pixel
-  const double nx = plane.normal.x() / k.fx, ny = plane.normal.y() / k.fy;
-  const double nz = plane.normal.z() - nx * k.cx - ny * k.cy;
+  const RayDotNormal dot(k, plane);
   for (int y = 0; y < depthMm.rows; ++y) {
     float* out = heightMm.ptr<float>(y);
-    const double rowTerm = ny * y + nz;
+    const double rowTerm = dot.Row(y);
     for (int x = 0; x < depthMm.cols; ++x) {
-      const double z = depthMm.type() == CV_16UC1 ? depthMm.at<uint16_t>(y, x)
-                                                  : static_cast<double>(depthMm.at<float>(y, x));
-      out[x] = z > 0.0 && std::isfinite(z)
-                   ? static_cast<float>(z * (nx * x + rowTerm) + plane.offset)
-                   : 0.0f;
+      const double z = DepthAt(depthMm, y, x);
+      out[x] = IsReading(z) ? static_cast<float>(z * (dot.ax * x + rowTerm) + plane.offset) : 0.0f;
     }
   }
 }
 
-}  // namespace pg
+void PlaneHeightScale(const DepthIntrinsics& k, const TablePlane& plane, cv::Size size,
+                      cv::Mat& scale) {
+  scale.create(size, CV_32FC1);
+  // a step dz along the axis is dz (n . (x', y', 1)) along the normal, negative toward the camera
+  const RayDotNormal dot(k, plane);
+  for (int y = 0; y < size.height; ++y) {
+    float* out = scale.ptr<float>(y);
+    const double row = dot.Row(y);
+    for (int x = 0; x < size.width; ++x) out[x] = static_cast<float>(-(dot.ax * x + row));
+  }
+}
 
-namespace pg {
+cv::Point2d FootPixel(const DepthIntrinsics& k, const TablePlane& plane, cv::Point2d px,
+                      double zMm) {
+  const Eigen::Vector3d x = BackProject(k, px.x, px.y, zMm);
+  const Eigen::Vector3d foot = x - plane.Height(x) * plane.normal;
+  return {k.fx * foot.x() / foot.z() + k.cx, k.fy * foot.y() / foot.z() + k.cy};
+}
+
+DepthIntrinsics IntrinsicsOf(const Calibration& calibration) {
+  DepthIntrinsics k;
+  const cv::Mat& m = calibration.cameraMatrix;
+  if (m.rows != 3 || m.cols != 3 || m.type() != CV_64F) return k;
+  k.fx = m.at<double>(0, 0);
+  k.fy = m.at<double>(1, 1);
+  k.cx = m.at<double>(0, 2);
+  k.cy = m.at<double>(1, 2);
+  return k;
+}
+
+std::optional<TablePlane> PlaneOf(const Calibration& calibration) {
+  const cv::Mat& p = calibration.depthPlane;
+  if (p.total() != 4 || p.type() != CV_64F) return std::nullopt;
+  TablePlane plane;
+  plane.normal = Eigen::Vector3d(p.at<double>(0), p.at<double>(1), p.at<double>(2)).normalized();
+  plane.offset = p.at<double>(3);
+  return plane;
+}
 
 namespace {
 
@@ -252,10 +307,7 @@ Eigen::Vector3d OnPlane(const DepthIntrinsics& k, const TablePlane& plane, cv::P
 Result<TableRectangle> FindTableRectangle(const cv::Mat& depthMm, const DepthIntrinsics& k,
                                           const TablePlane& plane, const PlaneFitParams& params,
                                           int gapPx) {
-  if (depthMm.empty() || (depthMm.type() != CV_16UC1 && depthMm.type() != CV_32FC1))
-    return MakeError({"depth image"}, cv::typeToString(depthMm.type()) +
-                                          " image where depth in mm (16-bit or float, single "
-                                          "channel) is expected");
+  if (MaybeError bad = CheckDepthImage(depthMm)) return *bad;
   cv::Mat height;
   HeightAbovePlane(depthMm, k, plane, height);
   cv::Mat on(depthMm.size(), CV_8UC1, cv::Scalar(0));
@@ -263,11 +315,8 @@ Result<TableRectangle> FindTableRectangle(const cv::Mat& depthMm, const DepthInt
     const float* h = height.ptr<float>(y);
     uint8_t* o = on.ptr<uint8_t>(y);
     for (int x = 0; x < depthMm.cols; ++x) {
-      const double z = depthMm.type() == CV_16UC1 ? depthMm.at<uint16_t>(y, x)
-                                                  : static_cast<double>(depthMm.at<float>(y, x));
-      if (z > 0.0 && std::isfinite(z) &&
-          std::abs(h[x]) <= std::max(params.tolerance, params.toleranceSteps * KinectStepMm(z)))
-        o[x] = 255;
+      const double z = DepthAt(depthMm, y, x);
+      if (IsReading(z) && std::abs(h[x]) <= Tolerance(z, params)) o[x] = 255;
     }
   }
   // hands and things on the table, and holes in the readings, closed over

@@ -145,6 +145,79 @@ TEST(FitTablePlane, HeightsAreMeasuredAlongTheNormalNotTheRays) {
   EXPECT_EQ(cv::countNonZero(height(cv::Rect(0, 0, 10, 10))), 0);
 }
 
+TEST(PlaneHeightScale, TurnsADepthStepAlongTheAxisIntoAHeightAlongTheNormal) {
+  const DepthIntrinsics k = DepthIntrinsics::KinectV1({640, 480});
+  // Square to the table every axial mm is a mm of height: the scale is 1 (to float precision).
+  cv::Mat scale;
+  PlaneHeightScale(k, Tilted(0.0, 0.0, 1000.0), {640, 480}, scale);
+  double lo = 0.0, hi = 0.0;
+  cv::minMaxLoc(scale, &lo, &hi);
+  EXPECT_NEAR(lo, 1.0, 1e-6);
+  EXPECT_NEAR(hi, 1.0, 1e-6);
+  // Tilted 10 degrees about x and 4 about y: at each pixel, two points on its ray (the plane's
+  // point and one 20 mm nearer along the axis) differ in height above the plane by 20 x scale,
+  // the plane's own definition of height (normal . X + offset): checked at corners and centre to
+  // 1e-4 mm (float).
+  const TablePlane plane = Tilted(10.0, 4.0, 900.0);
+  PlaneHeightScale(k, plane, {640, 480}, scale);
+  for (const cv::Point p : {cv::Point(0, 0), cv::Point(639, 0), cv::Point(320, 240),
+                            cv::Point(0, 479), cv::Point(639, 479)}) {
+    const Eigen::Vector3d ray((p.x - k.cx) / k.fx, (p.y - k.cy) / k.fy, 1.0);
+    const double zTable = -plane.offset / plane.normal.dot(ray);
+    const double h = plane.Height(BackProject(k, p.x, p.y, zTable - 20.0));
+    EXPECT_NEAR(h, 20.0 * scale.at<float>(p), 1e-4) << p;
+    // the camera sees the table from above: a nearer reading is always higher
+    EXPECT_GT(scale.at<float>(p), 0.0f) << p;
+  }
+  // and the scale differs from 1 by about the tilt's cosine across the image: more than 1% at a
+  // corner for a 10 degree tilt (cos 10 deg = 0.985)
+  cv::minMaxLoc(scale, &lo, &hi);
+  EXPECT_GT(hi - lo, 0.01);
+}
+
+TEST(FootPixel, ARaisedPointStandsInwardOfWhereItIsSeen) {
+  const DepthIntrinsics k = DepthIntrinsics::KinectV1({640, 480});
+  // Square to the table at 1000 mm: a point 100 mm up seen at image px (600, 400) is at depth
+  // 900; it stands where the table point under it is seen, the same camera-frame x, y at depth
+  // 1000: the offset from the principal point shrinks by 900 / 1000.
+  const TablePlane square = Tilted(0.0, 0.0, 1000.0);
+  const cv::Point2d foot = FootPixel(k, square, {600.0, 400.0}, 900.0);
+  EXPECT_NEAR(foot.x, k.cx + (600.0 - k.cx) * 0.9, 1e-9);
+  EXPECT_NEAR(foot.y, k.cy + (400.0 - k.cy) * 0.9, 1e-9);
+  // a point on the plane is its own foot, tilted or not
+  const TablePlane tilted = Tilted(8.0, -5.0, 950.0);
+  const Eigen::Vector3d ray((100.0 - k.cx) / k.fx, (50.0 - k.cy) / k.fy, 1.0);
+  const double zTable = -tilted.offset / tilted.normal.dot(ray);
+  const cv::Point2d same = FootPixel(k, tilted, {100.0, 50.0}, zTable);
+  EXPECT_NEAR(same.x, 100.0, 1e-6);
+  EXPECT_NEAR(same.y, 50.0, 1e-6);
+  // tilted: the foot of a raised point is on the plane and the line from the point to it is
+  // along the normal (both to 1e-6 mm)
+  const cv::Point2d f = FootPixel(k, tilted, {100.0, 50.0}, zTable - 80.0);
+  const Eigen::Vector3d raised = BackProject(k, 100.0, 50.0, zTable - 80.0);
+  const Eigen::Vector3d fray((f.x - k.cx) / k.fx, (f.y - k.cy) / k.fy, 1.0);
+  const Eigen::Vector3d onPlane = fray * (-tilted.offset / tilted.normal.dot(fray));
+  EXPECT_NEAR(tilted.Height(onPlane), 0.0, 1e-6);
+  EXPECT_NEAR((raised - onPlane).cross(tilted.normal).norm(), 0.0, 1e-6);
+}
+
+TEST(PlaneOf, ReadsTheCalibrationsPlaneAndIntrinsics) {
+  Calibration c;
+  EXPECT_FALSE(PlaneOf(c).has_value());
+  c.cameraMatrix = (cv::Mat_<double>(3, 3) << 580.0, 0.0, 310.0, 0.0, 585.0, 245.0, 0.0, 0.0, 1.0);
+  c.depthPlane = (cv::Mat_<double>(1, 4) << 0.0, 0.6, -0.8, 950.0);
+  const std::optional<TablePlane> plane = PlaneOf(c);
+  ASSERT_TRUE(plane.has_value());
+  EXPECT_NEAR(plane->normal.y(), 0.6, 1e-12);
+  EXPECT_NEAR(plane->normal.z(), -0.8, 1e-12);
+  EXPECT_DOUBLE_EQ(plane->offset, 950.0);
+  const DepthIntrinsics k = IntrinsicsOf(c);
+  EXPECT_DOUBLE_EQ(k.fx, 580.0);
+  EXPECT_DOUBLE_EQ(k.fy, 585.0);
+  EXPECT_DOUBLE_EQ(k.cx, 310.0);
+  EXPECT_DOUBLE_EQ(k.cy, 245.0);
+}
+
 TEST(FitTablePlane, TheSameImageGivesTheSamePlane) {
   const DepthIntrinsics k = DepthIntrinsics::KinectV1({640, 480});
   const cv::Mat depth = Render(k, Tilted(2.0, 1.0, 1200.0), {{{200, 200, 200, 150}, 60.0}}, 0.1, 7);

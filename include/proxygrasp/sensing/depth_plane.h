@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <span>
 
 namespace pg {
@@ -75,6 +76,25 @@ Result<TablePlane> FitTablePlane(const cv::Mat& depthMm, const DepthIntrinsics& 
 /// The height of every pixel above the plane (CV_32F, mm; 0 where there is no reading).
 void HeightAbovePlane(const cv::Mat& depthMm, const DepthIntrinsics& k, const TablePlane& plane,
                       cv::Mat& heightMm);
+
+/// Per pixel of an image of `size`, the height along the plane's normal of one mm of depth along
+/// the optical axis (CV_32F): a reading dz mm nearer than the surface on the same ray lies
+/// dz * scale above it. 1 everywhere for a camera square to the table; for a tilted one it is the
+/// cosine between the pixel's ray and the normal over the ray's z (-normal . (x', y', 1) with x',
+/// y' the normalised image coordinates).
+void PlaneHeightScale(const DepthIntrinsics& k, const TablePlane& plane, cv::Size size,
+                      cv::Mat& scale);
+
+/// Where the point seen at image px `px` at depth `zMm` stands on the plane: the image px of the
+/// foot of its perpendicular. A raised point seen off the image centre appears outward of where it
+/// stands (parallax); its foot is where it is on the table. A point on the plane is its own foot.
+cv::Point2d FootPixel(const DepthIntrinsics& k, const TablePlane& plane, cv::Point2d px,
+                      double zMm);
+
+/// The intrinsics of a calibration's cameraMatrix (fx, fy, cx, cy), for the plane it holds.
+DepthIntrinsics IntrinsicsOf(const Calibration& calibration);
+/// A calibration's depthPlane (1x4: normal x, y, z, offset mm), or nothing when it has none.
+std::optional<TablePlane> PlaneOf(const Calibration& calibration);
 
 /// The table's top as a quadrilateral in the depth image, and its size measured on the plane.
 struct TableRectangle {
