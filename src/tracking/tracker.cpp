@@ -108,6 +108,23 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
       }
     }
   }
+  // A depth camera sees a finger that rises out of the touch band as hover (ContourFrame::hover):
+  // an unmatched contact whose centroid, moved on by its velocity, lies inside a hover region
+  // rose into it and is lifted at once, not kept where it was last seen (keep_lost is for blobs
+  // that drop out of the camera's view, and a finger in the air is in view). Inside, with no
+  // margin: a fingertip's pad that drops out of the band for a frame lies beside the hover of its
+  // own finger rising behind it, not within it. IR frames have no hover.
+  std::vector<bool> rose(nPrev, false);
+  for (int i = 0; i < nPrev; ++i) {
+    if (prevTaken[i] || mergedTo[i] >= 0) continue;
+    const Vec2 at = m_current[i].blob.centroid + shift[i];
+    for (const Blob& hover : frame.hover) {
+      if (hover.contour.cols() >= 3 && PointInPolygon(hover.contour, at)) {
+        rose[i] = true;
+        break;
+      }
+    }
+  }
   std::vector<int> splitFrom(nBlobs, -1);
   for (int j = 0; j < nBlobs; ++j) {
     if (blobToPrev[j] >= 0) continue;
@@ -201,7 +218,7 @@ ContactSet Tracker::Step(const ContourFrame& frame) {
       c.state = ContactState::kLifted;
       c.mergedInto = next[mergedTo[i]].id;
       lifted.push_back(std::move(c));
-    } else if (c.missed < params.keepLost) {
+    } else if (c.missed < params.keepLost && !rose[i]) {
       c.state = ContactState::kContinuing;
       c.parents.push_back(c.id);
       ++c.missed;

@@ -209,6 +209,41 @@ TEST(Tracker, ALostContactIsKeptForKeepLostFramesThenLifted) {
   EXPECT_EQ(far.contacts[0].state, ContactState::kContinuing);
 }
 
+TEST(Tracker, AContactThatRisesIntoHoverIsLiftedAtOnce) {
+  // A depth camera sees a lifted fingertip as hover: its touch blob is gone and a hover region
+  // (the fingertip and the finger above the band) covers where it was. It is lifted in that
+  // frame, not kept for keep_lost (3) frames where it was last seen, which would leave a contact
+  // (and its particles pressing) under a finger already 2 to 3 cm up at 30 cm/s.
+  Tracker t;
+  t.Step(Frame(0, {Disc({10, 10}, 0.8), Disc({20, 10}, 0.8)}));
+  ContourFrame lifted = Frame(1, {Disc({20, 10}, 0.8)});
+  lifted.hover.push_back(UnionBlob({10, 10.2}, 1.1, {10, 8.6}, 1.0));  // the pad and its finger
+  ContactSet s = t.Step(lifted);
+  ASSERT_EQ(s.contacts.size(), 2u);
+  EXPECT_EQ(s.contacts[0].id, 2);
+  EXPECT_EQ(s.contacts[0].state, ContactState::kContinuing);
+  EXPECT_EQ(s.contacts[1].id, 1);
+  EXPECT_EQ(s.contacts[1].state, ContactState::kLifted);
+  EXPECT_TRUE(t.Step(Frame(2, {Disc({20, 10}, 0.8)})).contacts.size() == 1u);
+  // a hover region beside it (its own finger rising behind a pad that dropped out of the band
+  // for a frame) or elsewhere (another hand) does not lift a contact: it is kept
+  Tracker beside;
+  beside.Step(Frame(0, {Disc({10, 10}, 0.8)}));
+  ContourFrame dropped = Frame(1, {});
+  dropped.hover.push_back(UnionBlob({10, 8.2}, 0.8, {10, 7.2}, 0.8));  // 0.2 cm from the pad
+  ContactSet bridged = beside.Step(dropped);
+  ASSERT_EQ(bridged.contacts.size(), 1u);
+  EXPECT_EQ(bridged.contacts[0].state, ContactState::kContinuing);
+  Tracker u;
+  u.Step(Frame(0, {Disc({10, 10}, 0.8)}));
+  ContourFrame away = Frame(1, {});
+  away.hover.push_back(Disc({30, 30}, 3.0));
+  ContactSet kept = u.Step(away);
+  ASSERT_EQ(kept.contacts.size(), 1u);
+  EXPECT_EQ(kept.contacts[0].state, ContactState::kContinuing);
+  EXPECT_EQ(kept.contacts[0].missed, 1);
+}
+
 TEST(Tracker, GloballyNearestPairsFirst) {
   // previous A at x=0 and B at x=3; current blobs at x=2 and x=3.5. Matching blob by blob in
   // order would give the x=2 blob to its nearest, B (distance 1), and leave A and the x=3.5 blob

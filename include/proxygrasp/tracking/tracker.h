@@ -30,13 +30,15 @@ class Tracker {
   /// blob at most once. Matched blobs continue their contact's id; unmatched blobs are new (fresh
   /// id). An unmatched contact goes on where it was last seen, continuing with `missed` counting
   /// up, for params.keepLost frames; then it is lifted and listed once, with its last blob,
-  /// after the current and kept contacts.
-  /// Topology (Contact::parents, Contact::mergedInto): every contact's last blob is moved on by
-  /// its centroid velocity. An unmatched contact whose moved contour lies at least half inside a
-  /// blob that continues another contact (or within params.mergeMargin of it) merged into that
-  /// blob: it is lifted at once, with mergedInto set, and is a parent of the blob's contact. An
-  /// unmatched blob whose contour lies at least half within a
-  /// previous contact's moved blob split off it: it is new, with that contact as its parent.
+  /// after the current and kept contacts. One whose centroid, moved on by its velocity, lies
+  /// inside a hover region of the frame (ContourFrame::hover: a depth camera sees the finger above
+  /// the touch band) rose off the table and is lifted at once. Topology (Contact::parents,
+  /// Contact::mergedInto): every contact's last blob is moved on by its centroid velocity. An
+  /// unmatched contact whose moved contour lies at least half inside a blob that continues another
+  /// contact (or within params.mergeMargin of it) merged into that blob: it is lifted at once, with
+  /// mergedInto set, and is a parent of the blob's contact. An unmatched blob whose contour lies at
+  /// least half within a previous contact's moved blob split off it: it is new, with that contact
+  /// as its parent.
   ContactSet Step(const ContourFrame& frame);
 
   /// Forgets all contacts (the next frame's blobs are all new). Ids keep counting up.
