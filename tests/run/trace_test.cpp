@@ -27,6 +27,16 @@ std::string ReadText(const std::string& path) {
   return buffer.str();
 }
 
+// field k (from 0) of a CSV line, without its newline
+std::string Field(const std::string& line, int k) {
+  // a comma after the last field, so that an empty last field reads as one
+  std::stringstream in(line.substr(0, line.find('\n')) + ",");
+  std::string field;
+  for (int i = 0; i <= k; ++i)
+    if (!std::getline(in, field, ',')) return "<missing>";
+  return field;
+}
+
 // two boxes and a fingertip moving towards one of them
 Level TwoBoxes() {
   return test::ParseOrFail(test::BoxToml("left", 20, 23) + test::BoxToml("right", 40, 23) +
@@ -120,7 +130,21 @@ TEST(Trace, StreamsOneRowPerObjectAndOnePerFrame) {
   EXPECT_THAT(frames, StartsWith(std::string(kFramesCsvHeader) + "\n"));
   EXPECT_EQ(std::count(frames.begin(), frames.end(), '\n'), 1 + 3);
   EXPECT_EQ(frames.substr(frames.rfind("\n2,")).substr(0, 14), "\n2,0.050000,1,");
-  EXPECT_EQ(FrameRow(sim.stats(), sim.Time()).substr(0, 13), "2,0.050000,1,");
+  EXPECT_EQ(FrameRow(sim).substr(0, 13), "2,0.050000,1,");
+  // the IR camera measures no heights and no hover: height and hover_height empty, hover 0
+  const std::string last = frames.substr(frames.rfind("\n2,") + 1);
+  EXPECT_EQ(Field(last, 9), "");
+  EXPECT_EQ(Field(last, 10), "0");
+  EXPECT_EQ(Field(last, 11), "");
+  // contacts.csv: the fingertip in each frame, new then continuing, without a height
+  const std::string contacts = ReadText(dir + "/nested/contacts.csv");
+  EXPECT_THAT(contacts, StartsWith(std::string(kContactsCsvHeader) + "\n"));
+  EXPECT_EQ(std::count(contacts.begin(), contacts.end(), '\n'), 1 + 3);
+  EXPECT_THAT(contacts, HasSubstr("\n0,0.016667,1,new,"));
+  const std::string lastContact = contacts.substr(contacts.rfind("\n2,") + 1);
+  EXPECT_EQ(Field(lastContact, 3), "continuing");
+  EXPECT_EQ(Field(lastContact, 7), "");
+  EXPECT_EQ(ContactRows(sim), lastContact);
   fs::remove_all(dir);
 }
 
