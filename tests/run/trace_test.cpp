@@ -1,5 +1,9 @@
 #include "proxygrasp/run/trace.h"
 
+#include "test_paths.h"
+
+#include "proxygrasp/core/text.h"
+#include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
 #include "proxygrasp/sensing/depth_source.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
@@ -146,6 +150,75 @@ TEST(Trace, StreamsOneRowPerObjectAndOnePerFrame) {
   EXPECT_EQ(Field(lastContact, 7), "");
   EXPECT_EQ(ContactRows(sim), lastContact);
   fs::remove_all(dir);
+}
+
+TEST(Trace, ADepthRecordingsTraceKeepsTheHeights) {
+  // side_push on the synthetic depth camera, recorded as `run --record depth:DIR` records it
+  Result<Level> loaded = LoadLevel(std::string(pg::test::SourceDir()) + "/levels/side_push.toml");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().Format();
+  Level level = std::move(loaded.value());
+  ASSERT_FALSE(ApplyOverrides(level, {"camera.kind=depth"}));
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  const std::string root = (fs::temp_directory_path() / "pg_trace_heights").string();
+  fs::remove_all(root);
+  const std::string spec = "depth:" + root + "/push";
+  TraceWriter trace;
+  ASSERT_FALSE(trace.Open(RecordingTraceDir(spec), spec, sim.CameraSize(), 60.0));
+  const int kFrames = 40;
+  std::vector<std::string> expected(kFrames);  // each frame's mean contact height, as written
+  for (int i = 0; i < kFrames; ++i) {
+    ASSERT_FALSE(sim.StepScript());
+    ASSERT_FALSE(trace.Write(sim));
+    double sum = 0.0;
+    int n = 0;
+    for (const Contact& c : sim.contacts().contacts) {
+      if (c.state == ContactState::kLifted || c.blob.heights.empty()) continue;
+      double own = 0.0;
+      for (double h : c.blob.heights) own += h;
+      sum += own / static_cast<double>(c.blob.heights.size());
+      ++n;
+    }
+    if (n > 0) expected[i] = FormatFixed(sum / n, 4);
+  }
+  ASSERT_FALSE(trace.Close());
+
+  const DepthParams& depth = level.params.depth;
+  std::stringstream frames(ReadText(root + "/push_trace/frames.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(frames, line));
+  EXPECT_EQ(line, kFramesCsvHeader);
+  int withHeight = 0, withHover = 0;
+  for (int i = 0; i < kFrames; ++i) {
+    ASSERT_TRUE(std::getline(frames, line)) << i;
+    SCOPED_TRACE(line);
+    EXPECT_EQ(Field(line, 9), expected[i]);
+    if (!expected[i].empty()) {
+      ++withHeight;
+      // a touch region's heights are medians of pixels inside the touch band, so their means lie
+      // in it: [touch_low, touch_high] = [0.5, 2.0] cm
+      EXPECT_GE(std::stod(expected[i]), depth.touchLow);
+      EXPECT_LE(std::stod(expected[i]), depth.touchHigh);
+    }
+    const int hover = std::stoi(Field(line, 10));
+    EXPECT_EQ(Field(line, 11).empty(), hover == 0);
+    if (hover > 0) {
+      ++withHover;
+      // hover pixels lie above touch_high and at most hover_ceiling
+      EXPECT_GT(std::stod(Field(line, 11)), depth.touchHigh);
+      EXPECT_LE(std::stod(Field(line, 11)), depth.hoverCeiling);
+    }
+  }
+  // the surface is learned over the first 15 frames (surface_frames); the fingertip is touching
+  // from then on, the finger rising from it above the band a hover region
+  EXPECT_GE(withHeight, kFrames - 15 - 2);
+  EXPECT_GE(withHover, 1);
+  // contacts.csv has each contact's own mean height
+  const std::string contacts = ReadText(root + "/push_trace/contacts.csv");
+  EXPECT_THAT(contacts, StartsWith(std::string(kContactsCsvHeader) + "\n"));
+  EXPECT_EQ(ContactRows(sim),
+            contacts.substr(contacts.find("\n" + std::to_string(kFrames - 1) + ",") + 1));
+  fs::remove_all(root);
 }
 
 TEST(Trace, RecordsTheCameraFramesBesideTheRows) {
