@@ -200,6 +200,11 @@ TEST(TuioOutput, ADepthCamerasHeightsArriveOverTheLoopback) {
   std::unique_ptr<TuioOutput> out =
       OpenOutput("127.0.0.1:" + std::to_string(receiver.value()->port()));
   ASSERT_TRUE(out);
+  // and a recording of the same frames (--tuio-out file:PATH)
+  const std::string path = TempPath("depth.xml");
+  std::unique_ptr<TuioOutput> recording = OpenOutput("file:" + path);
+  ASSERT_TRUE(recording);
+  std::vector<double> sentHeights;  // the contact's mean height in each frame, cm
   TuioTracker tracker;
 
   // 60 frames: the level gives the depth chain the clear table as its surface, so the fingertip
@@ -208,6 +213,7 @@ TEST(TuioOutput, ADepthCamerasHeightsArriveOverTheLoopback) {
   for (int frame = 0; frame < 60; ++frame) {
     ASSERT_FALSE(sim.StepScript());
     ASSERT_FALSE(out->Send(sim));
+    ASSERT_FALSE(recording->Send(sim));
     std::optional<TuioFrame> got = WaitForFrame(*receiver.value(), sim.stats().frame);
     ASSERT_TRUE(got) << "frame " << frame << " did not arrive";
     const ContactSet received = tracker.Step(&*got, level.params.sensing.spacing);
@@ -228,11 +234,27 @@ TEST(TuioOutput, ADepthCamerasHeightsArriveOverTheLoopback) {
       ASSERT_NE(tracked, received.contacts.end());
       ASSERT_EQ(tracked->blob.heights.size(), static_cast<size_t>(tracked->blob.contour.cols()));
       EXPECT_NEAR(MeanHeight(tracked->blob), *it->height, 1e-9);
+      sentHeights.push_back(MeanHeight(c.blob));
       ++withHeights;
     }
   }
   EXPECT_EQ(withHeights, 60);
   EXPECT_EQ(receiver.value()->stats().TotalDropped(), 0u) << receiver.value()->stats().Summary();
+
+  // the recording replays with the same heights (its floats are written with 9 digits, so they
+  // read back to the same bits: the same 1e-6 cm as over UDP)
+  ASSERT_FALSE(recording->Close());
+  Result<std::vector<OscBundle>> bundles = ReadTouchlibXml(path);
+  std::remove(path.c_str());
+  ASSERT_TRUE(bundles.ok()) << bundles.error().Format();
+  const std::vector<TuioFrame> replayed = ReplayTuio(bundles.value(), params);
+  ASSERT_EQ(replayed.size(), 60u);
+  ASSERT_EQ(sentHeights.size(), 60u);
+  for (size_t k = 0; k < replayed.size(); ++k) {
+    ASSERT_EQ(replayed[k].contacts.size(), 1u) << k;
+    ASSERT_TRUE(replayed[k].contacts[0].height) << k;
+    EXPECT_NEAR(*replayed[k].contacts[0].height, sentHeights[k], 1e-6) << k;
+  }
 }
 
 TEST(TuioOutput, FileRecordingReplaysAsTheSameContactsAtTheSimulationTime) {
