@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
+#include <vector>
 
 namespace pg {
 
@@ -62,14 +64,63 @@ std::string ObjectRows(const Simulation& sim) {
   return rows;
 }
 
-std::string FrameRow(const FrameStats& f, double t) {
-  return std::to_string(f.frame) + "," + FormatFixed(t, 6) + "," + std::to_string(f.contacts) +
-         "," + std::to_string(f.merges) + "," + std::to_string(f.splits) + "," +
-         std::to_string(f.particles) + "," + std::to_string(f.created) + "," +
-         std::to_string(f.deleted) + "," + std::to_string(f.bodies) + "," +
-         FormatFixed(f.senseMs, 4) + "," + FormatFixed(f.trackMs, 4) + "," +
+namespace {
+
+// a blob's mean height over its outline, cm; none without heights (the IR camera)
+std::optional<double> MeanHeight(const Blob& b) {
+  if (b.heights.empty()) return std::nullopt;
+  double sum = 0.0;
+  for (double h : b.heights) sum += h;
+  return sum / static_cast<double>(b.heights.size());
+}
+
+// the mean of the blobs' mean heights as a CSV field: empty when none has heights
+template <typename Range, typename BlobOf>
+std::string MeanHeightField(const Range& items, BlobOf blobOf) {
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& item : items) {
+    const Blob* b = blobOf(item);
+    if (!b) continue;
+    if (const std::optional<double> h = MeanHeight(*b)) {
+      sum += *h;
+      ++n;
+    }
+  }
+  return n > 0 ? FormatFixed(sum / n, 4) : std::string();
+}
+
+}  // namespace
+
+std::string FrameRow(const Simulation& sim) {
+  const FrameStats& f = sim.stats();
+  const std::string contactHeight = MeanHeightField(sim.contacts().contacts, [](const Contact& c) {
+    return c.state == ContactState::kLifted ? nullptr : &c.blob;
+  });
+  const std::vector<Blob>& hover = sim.contours().hover;
+  const std::string hoverHeight = MeanHeightField(hover, [](const Blob& b) { return &b; });
+  return std::to_string(f.frame) + "," + FormatFixed(sim.Time(), 6) + "," +
+         std::to_string(f.contacts) + "," + std::to_string(f.merges) + "," +
+         std::to_string(f.splits) + "," + std::to_string(f.particles) + "," +
+         std::to_string(f.created) + "," + std::to_string(f.deleted) + "," +
+         std::to_string(f.bodies) + "," + contactHeight + "," + std::to_string(hover.size()) + "," +
+         hoverHeight + "," + FormatFixed(f.senseMs, 4) + "," + FormatFixed(f.trackMs, 4) + "," +
          FormatFixed(f.proxyMs, 4) + "," + FormatFixed(f.physicsMs, 4) + "," +
          FormatFixed(f.totalMs, 4) + "\n";
+}
+
+std::string ContactRows(const Simulation& sim) {
+  const std::string frame = std::to_string(sim.stats().frame);
+  const std::string t = FormatFixed(sim.Time(), 6);
+  std::string rows;
+  for (const Contact& c : sim.contacts().contacts) {
+    const std::optional<double> h = MeanHeight(c.blob);
+    rows += frame + "," + t + "," + std::to_string(c.id) + "," +
+            kContactStateNames[static_cast<int>(c.state)] + "," +
+            FormatFixed(c.blob.centroid.x(), 4) + "," + FormatFixed(c.blob.centroid.y(), 4) + "," +
+            FormatFixed(c.blob.area, 4) + "," + (h ? FormatFixed(*h, 4) : std::string()) + "\n";
+  }
+  return rows;
 }
 
 MaybeError TraceWriter::Open(const std::string& dir, const std::string& videoPath, cv::Size size,
@@ -105,6 +156,12 @@ MaybeError TraceWriter::Open(const std::string& dir, const std::string& videoPat
     Close();
     return MakeError({framesPath}, "cannot write the trace file");
   }
+  const std::string contactsPath = dir + "/contacts.csv";
+  m_contactRows.open(contactsPath, std::ios::binary | std::ios::trunc);
+  if (!(m_contactRows << kContactsCsvHeader << "\n")) {
+    Close();
+    return MakeError({contactsPath}, "cannot write the trace file");
+  }
   m_dir = dir;
   m_frames = 0;
   return std::nullopt;
@@ -126,8 +183,11 @@ MaybeError TraceWriter::Write(const Simulation& sim) {
   if (!(m_objects << ObjectRows(sim) << std::flush)) {
     return MakeError({m_dir + "/objects.csv"}, "cannot write the trace file");
   }
-  if (!(m_frameRows << FrameRow(sim.stats(), sim.Time()) << std::flush)) {
+  if (!(m_frameRows << FrameRow(sim) << std::flush)) {
     return MakeError({m_dir + "/frames.csv"}, "cannot write the trace file");
+  }
+  if (!(m_contactRows << ContactRows(sim) << std::flush)) {
+    return MakeError({m_dir + "/contacts.csv"}, "cannot write the trace file");
   }
   ++m_frames;
   return std::nullopt;
@@ -156,16 +216,15 @@ MaybeError TraceWriter::Close() {
   m_recorder.Close();
   m_depth.reset();
   MaybeError status;
-  for (std::ofstream* file : {&m_objects, &m_frameRows}) {
-    if (!file->is_open()) continue;
-    file->close();
-    if (!*file && !status) {
-      status = MakeError({m_dir + (file == &m_objects ? "/objects.csv" : "/frames.csv")},
-                         "cannot complete the trace file");
+  for (const auto& [file, name] :
+       {std::pair{&m_objects, "/objects.csv"}, std::pair{&m_frameRows, "/frames.csv"},
+        std::pair{&m_contactRows, "/contacts.csv"}}) {
+    if (file->is_open()) {
+      file->close();
+      if (!*file && !status) status = MakeError({m_dir + name}, "cannot complete the trace file");
     }
+    file->clear();
   }
-  m_objects.clear();
-  m_frameRows.clear();
   return status;
 }
 

@@ -61,6 +61,11 @@ ContactSet TuioTracker::Step(const TuioFrame* frame, double spacing) {
     const bool fresh = it == m_live.end();
     if (fresh) it = m_live.emplace(c.id, Live{NewId(c.id), Blob()}).first;
     it->second.blob = BlobFromOutline(c.contour, spacing);
+    // a height sent with the contact (/tuio2/p3d): TUIO carries one per contact, so every point
+    // of the outline takes it
+    if (c.height)
+      it->second.blob.heights.assign(static_cast<size_t>(it->second.blob.contour.cols()),
+                                     *c.height);
     // TUIO says nothing of merges and splits: a session continues itself or is new
     Contact contact{it->second.id,
                     fresh ? ContactState::kNew : ContactState::kContinuing,

@@ -163,7 +163,7 @@ void TuioDecoder::DecodeTuio2(const OscMessage& m) {
   const std::string_view address = std::string_view(m.address).substr(7);
   const std::vector<OscArg>& a = m.args;
   Pending& p = m_pending[kTuio2];
-  const bool isShape = address == "ocg" || address == "ptr" || address == "bnd";
+  const bool isShape = address == "ocg" || address == "ptr" || address == "p3d" || address == "bnd";
 
   if (address == "frm") {
     // frm f_id [time dim source]
@@ -230,6 +230,27 @@ void TuioDecoder::DecodeTuio2(const OscMessage& m) {
       ++m_stats[TuioDrop::kTooFewArgs];
       return;
     }
+  } else if (address == "p3d") {
+    // p3d s_id tu_id c_id x y z [x_ax y_ax z_ax radius ...]: a fingertip at a height, z in units
+    // of the table's width
+    if (a.size() < 6) {
+      ++m_stats[TuioDrop::kTooFewArgs];
+      return;
+    }
+    if (!a[1].IsInt() || !a[2].IsInt() || !a[3].IsFloat() || !a[4].IsFloat() || !a[5].IsFloat()) {
+      ++m_stats[TuioDrop::kWrongType];
+      return;
+    }
+    if (!CheckCoord(a[3].f) || !CheckCoord(a[4].f) || !CheckCoord(a[5].f)) return;
+    shape.kind = TuioShape::kPointer;
+    shape.contour =
+        Ellipse(ToTable(a[3].f, a[4].f), m_params.cursorRadius, m_params.cursorRadius, 0.0);
+    openImplicitly();
+    if (!p.late) {
+      p.heights[id] = a[5].f * m_params.table.width;
+      AddShape(p, id, std::move(shape));
+    }
+    return;
   } else if (address == "ptr") {
     // ptr s_id tu_id c_id x y [angle shear radius press ...]: a fingertip
     if (a.size() < 5) {
@@ -411,6 +432,8 @@ void TuioDecoder::Complete(Profile profile) {
     t.kind = shape->second.kind;
     t.contour = std::move(shape->second.contour);
     t.centroid = PolygonCentroid(ToContour(t.contour));
+    const auto height = p.heights.find(id);
+    t.height = height == p.heights.end() ? std::nullopt : std::optional<double>(height->second);
   }
 
   // every live contact, of every profile
@@ -422,6 +445,7 @@ void TuioDecoder::Complete(Profile profile) {
     c.shape = t.kind;
     c.contour = t.contour;
     c.centroid = t.centroid;
+    c.height = t.height;
     frame.contacts.push_back(std::move(c));
     t.isNew = false;
   }

@@ -122,6 +122,10 @@ float TuioEncoder::NormX(double x) const {
   return static_cast<float>(x / m_params.table.width);
 }
 
+float TuioEncoder::NormZ(double z) const {
+  return static_cast<float>(z / m_params.table.width);
+}
+
 float TuioEncoder::NormY(double y) const {
   const double v = y / m_params.table.height;
   return static_cast<float>(m_params.flipY ? 1.0 - v : v);
@@ -141,7 +145,10 @@ std::vector<OscBundle> TuioEncoder::Encode(int64_t frame, OscTimeTag time,
   const size_t fixed = kHeaderBytes + InBundle(frm);
 
   // the contacts that alv can name while leaving room for one contact (a pointer, bounds and a
-  // triangle outline take under 200 bytes)
+  // triangle outline take under 200 bytes, a 3D pointer 72 more)
+  const bool anyHeight = std::any_of(contacts.begin(), contacts.end(),
+                                     [](const TuioOutContact& c) { return c.height.has_value(); });
+  const size_t room = anyHeight ? 280 : 200;
   OscMessage alv{"/tuio2/alv", {}};
   std::vector<const TuioOutContact*> sent;
   for (const TuioOutContact& c : contacts) {
@@ -150,7 +157,7 @@ std::vector<OscBundle> TuioEncoder::Encode(int64_t frame, OscTimeTag time,
       continue;
     }
     alv.args.push_back(OscArg::Int(static_cast<int32_t>(c.id)));
-    if (fixed + InBundle(alv) + 200 > maxBytes) {
+    if (fixed + InBundle(alv) + room > maxBytes) {
       alv.args.pop_back();
       ++m_stats.droppedContacts;
       continue;
@@ -182,8 +189,23 @@ std::vector<OscBundle> TuioEncoder::Encode(int64_t frame, OscTimeTag time,
                     OscArg::Float(static_cast<float>(box.width / table.width)),
                     OscArg::Float(static_cast<float>(box.height / table.height)),
                     OscArg::Float(static_cast<float>(area / (table.width * table.height)))}};
-    // the outline, simplified further until the three fit one bundle
-    const size_t pairSize = InBundle(ptr) + InBundle(bnd);
+    // a depth camera's contact: the 3D pointer, its z the mean height above the table in units of
+    // the table's width (as x), no pointing direction (0, 0, 0), the pointer's radius
+    OscMessage p3d{"/tuio2/p3d", {}};
+    if (c->height) {
+      p3d.args = {id,
+                  OscArg::Int(0),
+                  OscArg::Int(0),
+                  ptr.args[3],
+                  ptr.args[4],
+                  OscArg::Float(NormZ(*c->height)),
+                  OscArg::Float(0.0f),
+                  OscArg::Float(0.0f),
+                  OscArg::Float(0.0f),
+                  ptr.args[7]};
+    }
+    // the outline, simplified further until the messages fit one bundle
+    const size_t pairSize = InBundle(ptr) + InBundle(bnd) + (c->height ? InBundle(p3d) : 0);
     double tolerance = m_params.tolerance;
     OscMessage ocg{"/tuio2/ocg", {}};
     for (int attempt = 0;; ++attempt) {
@@ -207,6 +229,7 @@ std::vector<OscBundle> TuioEncoder::Encode(int64_t frame, OscTimeTag time,
     current.messages.push_back(std::move(ptr));
     current.messages.push_back(std::move(bnd));
     current.messages.push_back(std::move(ocg));
+    if (c->height) current.messages.push_back(std::move(p3d));
     used += groupSize;
   }
   if (used + InBundle(alv) > budget) {

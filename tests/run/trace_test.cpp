@@ -1,5 +1,9 @@
 #include "proxygrasp/run/trace.h"
 
+#include "test_paths.h"
+
+#include "proxygrasp/core/text.h"
+#include "proxygrasp/run/overrides.h"
 #include "proxygrasp/run/simulation.h"
 #include "proxygrasp/sensing/depth_source.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
@@ -25,6 +29,16 @@ std::string ReadText(const std::string& path) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   return buffer.str();
+}
+
+// field k (from 0) of a CSV line, without its newline
+std::string Field(const std::string& line, int k) {
+  // a comma after the last field, so that an empty last field reads as one
+  std::stringstream in(line.substr(0, line.find('\n')) + ",");
+  std::string field;
+  for (int i = 0; i <= k; ++i)
+    if (!std::getline(in, field, ',')) return "<missing>";
+  return field;
 }
 
 // two boxes and a fingertip moving towards one of them
@@ -120,8 +134,92 @@ TEST(Trace, StreamsOneRowPerObjectAndOnePerFrame) {
   EXPECT_THAT(frames, StartsWith(std::string(kFramesCsvHeader) + "\n"));
   EXPECT_EQ(std::count(frames.begin(), frames.end(), '\n'), 1 + 3);
   EXPECT_EQ(frames.substr(frames.rfind("\n2,")).substr(0, 14), "\n2,0.050000,1,");
-  EXPECT_EQ(FrameRow(sim.stats(), sim.Time()).substr(0, 13), "2,0.050000,1,");
+  EXPECT_EQ(FrameRow(sim).substr(0, 13), "2,0.050000,1,");
+  // the IR camera measures no heights and no hover: height and hover_height empty, hover 0
+  const std::string last = frames.substr(frames.rfind("\n2,") + 1);
+  EXPECT_EQ(Field(last, 9), "");
+  EXPECT_EQ(Field(last, 10), "0");
+  EXPECT_EQ(Field(last, 11), "");
+  // contacts.csv: the fingertip in each frame, new then continuing, without a height
+  const std::string contacts = ReadText(dir + "/nested/contacts.csv");
+  EXPECT_THAT(contacts, StartsWith(std::string(kContactsCsvHeader) + "\n"));
+  EXPECT_EQ(std::count(contacts.begin(), contacts.end(), '\n'), 1 + 3);
+  EXPECT_THAT(contacts, HasSubstr("\n0,0.016667,1,new,"));
+  const std::string lastContact = contacts.substr(contacts.rfind("\n2,") + 1);
+  EXPECT_EQ(Field(lastContact, 3), "continuing");
+  EXPECT_EQ(Field(lastContact, 7), "");
+  EXPECT_EQ(ContactRows(sim), lastContact);
   fs::remove_all(dir);
+}
+
+TEST(Trace, ADepthRecordingsTraceKeepsTheHeights) {
+  // side_push on the synthetic depth camera, recorded as `run --record depth:DIR` records it
+  Result<Level> loaded = LoadLevel(std::string(pg::test::SourceDir()) + "/levels/side_push.toml");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().Format();
+  Level level = std::move(loaded.value());
+  ASSERT_FALSE(ApplyOverrides(level, {"camera.kind=depth"}));
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  const std::string root = (fs::temp_directory_path() / "pg_trace_heights").string();
+  fs::remove_all(root);
+  const std::string spec = "depth:" + root + "/push";
+  TraceWriter trace;
+  ASSERT_FALSE(trace.Open(RecordingTraceDir(spec), spec, sim.CameraSize(), 60.0));
+  const int kFrames = 40;
+  std::vector<std::string> expected(kFrames);  // each frame's mean contact height, as written
+  for (int i = 0; i < kFrames; ++i) {
+    ASSERT_FALSE(sim.StepScript());
+    ASSERT_FALSE(trace.Write(sim));
+    double sum = 0.0;
+    int n = 0;
+    for (const Contact& c : sim.contacts().contacts) {
+      if (c.state == ContactState::kLifted || c.blob.heights.empty()) continue;
+      double own = 0.0;
+      for (double h : c.blob.heights) own += h;
+      sum += own / static_cast<double>(c.blob.heights.size());
+      ++n;
+    }
+    if (n > 0) expected[i] = FormatFixed(sum / n, 4);
+  }
+  ASSERT_FALSE(trace.Close());
+
+  const DepthParams& depth = level.params.depth;
+  std::stringstream frames(ReadText(root + "/push_trace/frames.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(frames, line));
+  EXPECT_EQ(line, kFramesCsvHeader);
+  int withHeight = 0, withHover = 0;
+  for (int i = 0; i < kFrames; ++i) {
+    ASSERT_TRUE(std::getline(frames, line)) << i;
+    SCOPED_TRACE(line);
+    EXPECT_EQ(Field(line, 9), expected[i]);
+    if (!expected[i].empty()) {
+      ++withHeight;
+      // a touch region's heights are medians of pixels inside the touch band, so their means lie
+      // in it: [touch_low, touch_high] = [0.5, 2.0] cm
+      EXPECT_GE(std::stod(expected[i]), depth.touchLow);
+      EXPECT_LE(std::stod(expected[i]), depth.touchHigh);
+    }
+    const int hover = std::stoi(Field(line, 10));
+    EXPECT_EQ(Field(line, 11).empty(), hover == 0);
+    if (hover > 0) {
+      ++withHover;
+      // hover pixels lie above touch_high and at most hover_ceiling
+      EXPECT_GT(std::stod(Field(line, 11)), depth.touchHigh);
+      EXPECT_LE(std::stod(Field(line, 11)), depth.hoverCeiling);
+    }
+  }
+  // the level gives the depth chain the synthetic camera's clear table as its surface, so the
+  // fingertip touching from the first frame is a contact in every frame, and the finger rising
+  // from it (25 degrees, 6 cm long) reaches above the band: a hover region in every frame
+  EXPECT_EQ(withHeight, kFrames);
+  EXPECT_EQ(withHover, kFrames);
+  // contacts.csv has each contact's own mean height
+  const std::string contacts = ReadText(root + "/push_trace/contacts.csv");
+  EXPECT_THAT(contacts, StartsWith(std::string(kContactsCsvHeader) + "\n"));
+  EXPECT_EQ(ContactRows(sim),
+            contacts.substr(contacts.find("\n" + std::to_string(kFrames - 1) + ",") + 1));
+  fs::remove_all(root);
 }
 
 TEST(Trace, RecordsTheCameraFramesBesideTheRows) {

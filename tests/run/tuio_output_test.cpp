@@ -2,6 +2,8 @@
 
 #include "test_paths.h"
 
+#include "proxygrasp/run/overrides.h"
+#include "proxygrasp/run/tuio_input.h"
 #include "proxygrasp/tuio/decoder.h"
 #include "proxygrasp/tuio/touchlib_xml.h"
 #include "proxygrasp/tuio/transport.h"
@@ -171,6 +173,88 @@ TEST(TuioOutput, UdpLoopbackReproducesTheContactsOfALevelRun) {
   EXPECT_EQ(out->encodeStats().coarsened, 0u);
   EXPECT_EQ(out->frames(), 210);
   EXPECT_EQ(out->Status(), "tuio out " + spec + ": 210 frames, 0 send errors");
+}
+
+// a blob's mean height over its outline, cm
+double MeanHeight(const Blob& b) {
+  double sum = 0.0;
+  for (double h : b.heights) sum += h;
+  return sum / static_cast<double>(b.heights.size());
+}
+
+TEST(TuioOutput, ADepthCamerasHeightsArriveOverTheLoopback) {
+  // side_push on the synthetic depth camera (--set camera.kind=depth), through tracking, sent
+  // over UDP and received as `--input tuio:PORT` receives it
+  Result<Level> loaded = LoadLevel(std::string(pg::test::SourceDir()) + "/levels/side_push.toml");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().Format();
+  Level level = std::move(loaded.value());
+  ASSERT_FALSE(ApplyOverrides(level, {"camera.kind=depth"}));
+  Simulation sim;
+  SimulationOptions options;
+  options.stages = RunStages::kThroughTracking;
+  ASSERT_FALSE(sim.Start(level, level.params, options));
+  TuioParams params;
+  params.table = level.params.table;
+  Result<std::unique_ptr<TuioReceiver>> receiver = TuioReceiver::Open(0, params);
+  ASSERT_TRUE(receiver.ok()) << receiver.error().Format();
+  std::unique_ptr<TuioOutput> out =
+      OpenOutput("127.0.0.1:" + std::to_string(receiver.value()->port()));
+  ASSERT_TRUE(out);
+  // and a recording of the same frames (--tuio-out file:PATH)
+  const std::string path = TempPath("depth.xml");
+  std::unique_ptr<TuioOutput> recording = OpenOutput("file:" + path);
+  ASSERT_TRUE(recording);
+  std::vector<double> sentHeights;  // the contact's mean height in each frame, cm
+  TuioTracker tracker;
+
+  // 60 frames: the level gives the depth chain the clear table as its surface, so the fingertip
+  // touching from the first frame is one contact in each
+  int withHeights = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    ASSERT_FALSE(sim.StepScript());
+    ASSERT_FALSE(out->Send(sim));
+    ASSERT_FALSE(recording->Send(sim));
+    std::optional<TuioFrame> got = WaitForFrame(*receiver.value(), sim.stats().frame);
+    ASSERT_TRUE(got) << "frame " << frame << " did not arrive";
+    const ContactSet received = tracker.Step(&*got, level.params.sensing.spacing);
+    for (const Contact& c : sim.contacts().contacts) {
+      if (c.state == ContactState::kLifted) continue;
+      SCOPED_TRACE("frame " + std::to_string(frame) + ", contact " + std::to_string(c.id));
+      ASSERT_FALSE(c.blob.heights.empty()) << "the depth chain gives every contact heights";
+      auto it = std::find_if(got->contacts.begin(), got->contacts.end(),
+                             [&](const TuioContact& t) { return t.id == c.id; });
+      ASSERT_NE(it, got->contacts.end());
+      ASSERT_TRUE(it->height) << "no p3d arrived";
+      // z is float32 of height / 61 cm: 2 cm * 2^-24 = 1.2e-7 cm; 1e-6 allows the division and
+      // multiplication around it
+      EXPECT_NEAR(*it->height, MeanHeight(c.blob), 1e-6);
+      // and the pipeline's contact made from it carries that height at every outline point
+      auto tracked = std::find_if(received.contacts.begin(), received.contacts.end(),
+                                  [&](const Contact& t) { return t.id == c.id; });
+      ASSERT_NE(tracked, received.contacts.end());
+      ASSERT_EQ(tracked->blob.heights.size(), static_cast<size_t>(tracked->blob.contour.cols()));
+      EXPECT_NEAR(MeanHeight(tracked->blob), *it->height, 1e-9);
+      sentHeights.push_back(MeanHeight(c.blob));
+      ++withHeights;
+    }
+  }
+  EXPECT_EQ(withHeights, 60);
+  EXPECT_EQ(receiver.value()->stats().TotalDropped(), 0u) << receiver.value()->stats().Summary();
+
+  // the recording replays with the same heights (its floats are written with 9 digits, so they
+  // read back to the same bits: the same 1e-6 cm as over UDP)
+  ASSERT_FALSE(recording->Close());
+  Result<std::vector<OscBundle>> bundles = ReadTouchlibXml(path);
+  std::remove(path.c_str());
+  ASSERT_TRUE(bundles.ok()) << bundles.error().Format();
+  const std::vector<TuioFrame> replayed = ReplayTuio(bundles.value(), params);
+  ASSERT_EQ(replayed.size(), 60u);
+  ASSERT_EQ(sentHeights.size(), 60u);
+  for (size_t k = 0; k < replayed.size(); ++k) {
+    ASSERT_EQ(replayed[k].contacts.size(), 1u) << k;
+    ASSERT_TRUE(replayed[k].contacts[0].height) << k;
+    EXPECT_NEAR(*replayed[k].contacts[0].height, sentHeights[k], 1e-6) << k;
+  }
 }
 
 TEST(TuioOutput, FileRecordingReplaysAsTheSameContactsAtTheSimulationTime) {

@@ -148,6 +148,42 @@ TEST(TuioDecoder, ContourBeatsBoundsBeatsPointer) {
   EXPECT_EQ(f.contacts[0].shape, TuioShape::kContour);
 }
 
+// a 3D pointer: x, y and z normalised, z in units of the table's width (docs/tuio.md)
+OscMessage P3d(int32_t id, double u, double v, double z) {
+  return Msg("/tuio2/p3d", {I(id), I(0), I(0), F(u), F(v), F(z), F(0), F(0), F(0), F(0.01)});
+}
+
+TEST(TuioDecoder, A3dPointerGivesItsContactAHeight) {
+  TuioDecoder d;  // 61 x 46 cm
+  // alone, p3d is a fingertip circle like ptr, at z 0.02 table widths: 0.02 * 61 = 1.22 cm;
+  // float32 z keeps it to 1.22 * 2^-24, far inside kFloatTol
+  TuioFrame f = One(d, B({Frm(1), P3d(4, 0.5, 0.25, 0.02), Alv({4})}));
+  ASSERT_EQ(f.contacts.size(), 1u);
+  EXPECT_EQ(f.contacts[0].shape, TuioShape::kPointer);
+  ASSERT_TRUE(f.contacts[0].height);
+  EXPECT_NEAR(*f.contacts[0].height, 0.02 * 61.0, kFloatTol);
+  EXPECT_NEAR(f.contacts[0].centroid.x(), 0.5 * 61.0, kFloatTol);
+  EXPECT_NEAR(f.contacts[0].centroid.y(), 0.75 * 46.0, kFloatTol);
+  // with an outline the outline is the shape, the height still comes from p3d, in either order
+  f = One(d, B({Frm(2), P3d(4, 0.5, 0.25, 0.01), Square(4, 0.45, 0.2, 0.1), Alv({4})}));
+  EXPECT_EQ(f.contacts[0].shape, TuioShape::kContour);
+  ASSERT_TRUE(f.contacts[0].height);
+  EXPECT_NEAR(*f.contacts[0].height, 0.01 * 61.0, kFloatTol);
+  // a frame without shapes keeps the last shape and height
+  f = One(d, B({Frm(3), Alv({4})}));
+  ASSERT_TRUE(f.contacts[0].height);
+  EXPECT_NEAR(*f.contacts[0].height, 0.01 * 61.0, kFloatTol);
+  // a new shape without p3d: the sender no longer gives a height
+  f = One(d, B({Frm(4), Square(4, 0.45, 0.2, 0.1), Alv({4})}));
+  EXPECT_FALSE(f.contacts[0].height);
+  // 2D messages and TUIO 1.1 cursors never carry one
+  f = One(d, B({CurAlive({9}), CurSet(9, 0.2, 0.2), CurFseq(1)}));
+  ASSERT_NE(Find(f, 9), nullptr);
+  EXPECT_FALSE(Find(f, 9)->height);
+  EXPECT_EQ(d.stats().TotalDropped(), 0u) << d.stats().Summary();
+  EXPECT_EQ(d.stats().ignored, 0u);
+}
+
 TEST(TuioDecoder, BoundsBecomeAnEllipseOfTheirSize) {
   TuioDecoder d;
   // width 0.2 of 61 cm, height 0.1 of 46 cm, turned a quarter turn (clockwise in TUIO's y-down
@@ -350,6 +386,14 @@ std::vector<BadCase> BadCases() {
       {"ptr blob argument", Msg("/tuio2/ptr", {I(1), I(0), I(0), OscArg::Other('b'), F(0.5)}),
        TuioDrop::kWrongType},
       {"ptr inf", Msg("/tuio2/ptr", {I(1), I(0), I(0), F(inf), F(0.5)}), TuioDrop::kNonFinite},
+      {"p3d too short", Msg("/tuio2/p3d", {I(1), I(0), I(0), F(0.5), F(0.5)}),
+       TuioDrop::kTooFewArgs},
+      {"p3d z a string", Msg("/tuio2/p3d", {I(1), I(0), I(0), F(0.5), F(0.5), S("0.1")}),
+       TuioDrop::kWrongType},
+      {"p3d NaN z", Msg("/tuio2/p3d", {I(1), I(0), I(0), F(0.5), F(0.5), F(nan)}),
+       TuioDrop::kNonFinite},
+      {"p3d z out of range", Msg("/tuio2/p3d", {I(1), I(0), I(0), F(0.5), F(0.5), F(2.0)}),
+       TuioDrop::kOutOfRange},
       {"bnd too short", Msg("/tuio2/bnd", {I(1), F(0.5), F(0.5), F(0)}), TuioDrop::kTooFewArgs},
       {"bnd negative height",
        Msg("/tuio2/bnd", {I(1), F(0.5), F(0.5), F(0), F(0.1), F(-0.5), F(0)}),

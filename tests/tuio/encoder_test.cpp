@@ -121,6 +121,90 @@ TEST(TuioEncoder, OneFrameIsFrmPtrBndOcgAlv) {
   EXPECT_EQ(b.messages[4].args[0].i, 7);
 }
 
+TEST(TuioEncoder, ADepthContactAlsoSendsA3dPointerWithItsHeight) {
+  TuioEncoder e;  // 61 x 46 cm
+  std::vector<TuioOutContact> contacts = {Out(7, Ellipse(Vec2(20, 10), 1, 1, 0, 32)),
+                                          Out(8, Ellipse(Vec2(40, 30), 1, 1, 0, 32))};
+  contacts[0].height = 1.5;  // cm
+  const std::vector<OscBundle> bundles = e.Encode(3, {}, contacts);
+  ASSERT_EQ(bundles.size(), 1u);
+  const OscBundle& b = bundles[0];
+  // frm, then ptr bnd ocg p3d for the contact with a height, ptr bnd ocg for the one without
+  ASSERT_EQ(b.messages.size(), 9u);
+  EXPECT_EQ(b.messages[3].address, "/tuio2/ocg");
+  const OscMessage& p3d = b.messages[4];
+  EXPECT_EQ(p3d.address, "/tuio2/p3d");
+  EXPECT_EQ(p3d.Types(), "iiifffffff");
+  EXPECT_EQ(p3d.args[0].i, 7);
+  // x, y as the pointer's; z = 1.5 cm / 61 cm (the table's width, the unit of x); no direction;
+  // the pointer's radius
+  const OscMessage& ptr = b.messages[1];
+  EXPECT_EQ(p3d.args[3].f, ptr.args[3].f);
+  EXPECT_EQ(p3d.args[4].f, ptr.args[4].f);
+  EXPECT_NEAR(p3d.args[5].f, 1.5 / 61.0, 1e-7);
+  for (int k = 6; k < 9; ++k) EXPECT_EQ(p3d.args[k].f, 0.0) << k;
+  EXPECT_EQ(p3d.args[9].f, ptr.args[7].f);
+  EXPECT_EQ(b.messages[5].address, "/tuio2/ptr");
+  EXPECT_EQ(b.messages[7].address, "/tuio2/ocg");
+  EXPECT_EQ(b.messages[8].address, "/tuio2/alv");
+
+  // decoded: the height comes back within float32's quantisation of z (1.5 cm * 2^-24, 1e-7 cm;
+  // 1e-6 allows the division and multiplication by the width), the other contact has none
+  const std::vector<TuioFrame> frames = DecodeAll(bundles);
+  ASSERT_EQ(frames.size(), 1u);
+  const TuioContact* got = Find(frames[0], 7);
+  ASSERT_NE(got, nullptr);
+  EXPECT_EQ(got->shape, TuioShape::kContour);
+  ASSERT_TRUE(got->height);
+  EXPECT_NEAR(*got->height, 1.5, 1e-6);
+  ASSERT_NE(Find(frames[0], 8), nullptr);
+  EXPECT_FALSE(Find(frames[0], 8)->height);
+
+  // a client that ignores p3d sees the same contacts: the frame without its p3d decodes to the
+  // same outlines
+  OscBundle without = b;
+  std::erase_if(without.messages, [](const OscMessage& m) { return m.address == "/tuio2/p3d"; });
+  const std::vector<TuioFrame> flat = DecodeAll({without});
+  ASSERT_EQ(flat.size(), 1u);
+  ASSERT_EQ(flat[0].contacts.size(), 2u);
+  for (const TuioContact& c : flat[0].contacts) {
+    EXPECT_EQ(c.contour, Find(frames[0], c.id)->contour) << c.id;
+    EXPECT_FALSE(c.height);
+  }
+}
+
+TEST(TuioEncoder, HeightsFitBundlesAndRoundTripForManyContacts) {
+  TuioEncoder e;
+  std::vector<TuioOutContact> contacts;
+  for (int k = 0; k < 60; ++k) {
+    contacts.push_back(
+        Out(100 + k, Ellipse(Vec2(5 + (k % 10) * 5.5, 5 + (k / 10) * 6.5), 1.2, 0.9, 0.1 * k, 48)));
+    contacts.back().height = 0.05 * k;  // 0 to 2.95 cm
+  }
+  const std::vector<OscBundle> bundles = e.Encode(9, {}, contacts);
+  EXPECT_GT(bundles.size(), 1u);
+  for (size_t k = 0; k < bundles.size(); ++k) {
+    EXPECT_LE(OscBundleSize(bundles[k]), 1472u) << "bundle " << k;
+    // each p3d travels right after its contact's ocg
+    for (size_t m = 1; m < bundles[k].messages.size(); ++m) {
+      if (bundles[k].messages[m].address != "/tuio2/p3d") continue;
+      EXPECT_EQ(bundles[k].messages[m - 1].address, "/tuio2/ocg");
+      EXPECT_EQ(bundles[k].messages[m - 1].args[0].i, bundles[k].messages[m].args[0].i);
+    }
+  }
+  const std::vector<TuioFrame> frames = DecodeAll(bundles);
+  ASSERT_EQ(frames.size(), 1u);
+  ASSERT_EQ(frames[0].contacts.size(), contacts.size());
+  for (const TuioOutContact& sent : contacts) {
+    const TuioContact* got = Find(frames[0], sent.id);
+    ASSERT_NE(got, nullptr);
+    ASSERT_TRUE(got->height) << sent.id;
+    // float32 z: 3 cm * 2^-24 is 2e-7 cm
+    EXPECT_NEAR(*got->height, *sent.height, 1e-6) << sent.id;
+  }
+  EXPECT_EQ(e.stats().droppedContacts, 0u);
+}
+
 TEST(TuioEncoder, AnEmptyFrameIsFrmAndAnEmptyAlv) {
   TuioEncoder e;
   const std::vector<OscBundle> bundles = e.Encode(1, {}, {});

@@ -20,7 +20,8 @@ class TuioSender;
 class TouchlibXmlWriter;
 
 /// The contacts of a frame that are still down (not lifted), as TUIO sends them: session id =
-/// contact id, the contour and centroid in table cm.
+/// contact id, the contour and centroid in table cm, and a depth camera's contact's mean height
+/// (the mean of Blob::heights, cm; none when it has no heights).
 std::vector<TuioOutContact> ToTuioOutContacts(const ContactSet& contacts);
 
 /// Sends the contacts of every frame a simulation steps as TUIO, to "HOST:PORT" over UDP or to a

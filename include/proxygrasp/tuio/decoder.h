@@ -13,8 +13,8 @@
 
 namespace pg {
 
-/// Assembles TUIO 2.0 (frm, ptr, bnd, ocg, alv) and TUIO 1.1 (2Dcur, 2Dblb) messages into frames.
-/// A TUIO 2.0 frame runs from /tuio2/frm to /tuio2/alv (a frame split over several bundles
+/// Assembles TUIO 2.0 (frm, ptr, p3d, bnd, ocg, alv) and TUIO 1.1 (2Dcur, 2Dblb) messages into
+/// frames. A TUIO 2.0 frame runs from /tuio2/frm to /tuio2/alv (a frame split over several bundles
 /// repeats its frm); a TUIO 1.1 frame ends at its profile's fseq. A session that is alive but sent
 /// no shape this frame keeps its last shape; a session missing from alive lifts. Malformed
 /// messages are counted in stats() by reason and dropped; nothing here throws or asserts on input.
@@ -62,6 +62,7 @@ class TuioDecoder {
     TuioShape kind = TuioShape::kContour;
     std::vector<Vec2> contour;
     Vec2 centroid = Vec2::Zero();
+    std::optional<double> height;  // cm, from the last frame that gave a shape
     bool isNew = true;
   };
   struct Pending {
@@ -71,6 +72,7 @@ class TuioDecoder {
     bool haveAlive = false;
     std::vector<TuioSessionId> alive;
     std::map<TuioSessionId, Shape> shapes;
+    std::map<TuioSessionId, double> heights;  // cm, from p3d
   };
 
   void DecodeTuio2(const OscMessage& m);

@@ -1,6 +1,7 @@
 // TUIO out: a frame of contacts (contours in table cm) becomes TUIO 2.0 bundles, frm, ptr, bnd,
-// ocg and alv, each small enough for one UDP datagram, and optionally TUIO 1.1 /tuio/2Dcur
-// bundles for older clients. Pure: the sender (transport.h) puts the bundles on the wire.
+// ocg, p3d (a depth camera's contacts, with their heights) and alv, each small enough for one UDP
+// datagram, and optionally TUIO 1.1 /tuio/2Dcur bundles for older clients. Pure: the sender
+// (transport.h) puts the bundles on the wire.
 #pragma once
 
 #include "proxygrasp/tuio/osc.h"
@@ -8,6 +9,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -26,11 +28,13 @@ struct TuioEncoderParams {
   int sensorHeight = 480;             ///< sensor size given in frm's dim, pixels
 };
 
-/// A contact to send: its session id, its outline (closed, any winding) and centroid, in cm.
+/// A contact to send: its session id, its outline (closed, any winding) and centroid, in cm, and
+/// for a depth camera's contact its mean height above the table (cm; none for the IR camera).
 struct TuioOutContact {
   TuioSessionId id = 0;
   std::vector<Vec2> contour;
   Vec2 centroid = Vec2::Zero();
+  std::optional<double> height;  ///< cm; sent as a /tuio2/p3d z when there is one
 };
 
 /// What the encoder had to give up, counted since the start.
@@ -43,7 +47,8 @@ struct TuioEncodeStats {
 };
 
 /// Builds the bundles of one frame. Every TUIO 2.0 bundle of a frame starts with the same frm;
-/// a contact's ptr, bnd and ocg always travel in the same bundle; the last bundle ends with alv.
+/// a contact's ptr, bnd, ocg (and p3d when it has a height) always travel in the same bundle; the
+/// last bundle ends with alv.
 class TuioEncoder {
  public:
   explicit TuioEncoder(const TuioEncoderParams& params = {});
@@ -63,6 +68,8 @@ class TuioEncoder {
                             std::span<const TuioOutContact> contacts);
   float NormX(double x) const;
   float NormY(double y) const;
+  // a height above the table (cm) as a normalised z: in units of the table's width, as x
+  float NormZ(double z) const;
 
   TuioEncoderParams m_params;
   TuioEncodeStats m_stats;

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,8 @@ struct TuioContact {
   TuioShape shape = TuioShape::kContour;
   std::vector<Vec2> contour;     ///< closed, counter-clockwise, at least 3 distinct points, cm
   Vec2 centroid = Vec2::Zero();  ///< area centroid of the contour, cm
+  /// height above the table, cm, when the sender gave one (a /tuio2/p3d z); none otherwise
+  std::optional<double> height;
 };
 
 /// One frame of contacts: every live contact, and the sessions that ended since the last frame.
