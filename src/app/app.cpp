@@ -192,7 +192,7 @@ struct App::Impl {
   Result<std::string> screenshot = std::string();
 
   // recording
-  TraceWriter recorder;  // input.mkv, objects.csv and frames.csv of out/<level>_recN
+  TraceWriter recorder;  // input.mkv, objects.csv, frames.csv and contacts.csv of out/<level>_recN
   std::string recordDir;
 
   // every stepped frame's contacts sent on as TUIO (--tuio-out), or nothing
@@ -717,7 +717,7 @@ void App::Impl::StepInput() {
 
 void App::Impl::StartRecording() {
   if (recorder.IsOpen() || !simOk) return;
-  // a fresh folder out/<level>_recN with input.mkv, objects.csv and frames.csv
+  // a fresh folder out/<level>_recN with input.mkv, objects.csv, frames.csv and contacts.csv
   std::string dir;
   for (int k = 1;; ++k) {
     dir = options.outDir + "/" + Stem() + "_rec" + std::to_string(k);

@@ -109,7 +109,8 @@ void AddRunCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--set", args.sets, "Override a parameter: section.key=value (repeatable)");
   cmd->add_option("--mode", args.mode, "Force the proxy mode of every run")
       ->check(CLI::IsMember({"persistent", "instant"}));
-  cmd->add_option("--trace", args.traceDir, "Write objects.csv and frames.csv into this folder");
+  cmd->add_option("--trace", args.traceDir,
+                  "Write objects.csv, frames.csv and contacts.csv into this folder");
   cmd->add_option("--frames", args.frames, "Frames per run (default: the script's duration)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--video", args.video,
