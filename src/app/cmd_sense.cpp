@@ -157,17 +157,15 @@ struct SenseOptions {
   bool stills = false;  // each image on its own
 };
 
-// the sensing view of the last frame: each filter stage side by side, contacts and ids drawn
+// the sensing view of the last frame: each filter stage side by side, contacts and ids drawn; a
+// depth frame's: depth, surface, height, touch and hover
 bool WritePreview(const Simulation& sim, const std::string& path) {
-  // the depth chain's stages are not drawn yet (issue 43, item 6)
-  if (sim.cameraImage().type() == CV_16UC1) {
-    std::cerr << "proxygrasp sense: --preview: the depth chain's stages are not drawn yet\n";
-    return false;
-  }
   std::vector<PreviewContact> shown;
   for (const Contact& c : sim.contacts().contacts)
     if (c.state != ContactState::kLifted) shown.push_back({&c.blob, static_cast<int>(c.id)});
-  const cv::Mat view = SensingPreview(sim.sensor(), shown);
+  const cv::Mat view = sim.cameraImage().type() == CV_16UC1
+                           ? DepthPreview(sim.depthSensor(), shown, sim.contours().hover)
+                           : SensingPreview(sim.sensor(), shown);
   return !view.empty() && cv::imwrite(path, view);
 }
 
@@ -344,7 +342,8 @@ void AddSenseCommand(CLI::App& app, int& exitCode) {
                   "set a parameter, e.g. --set sensing.threshold=50 (repeatable)");
   cmd->add_option("--preview", options.preview,
                   "write the last frame's filter stages side by side, with the contacts' outlines "
-                  "and ids on the camera image, to this PNG (with --frames N: frame N-1)");
+                  "and ids on the camera image, to this PNG (with --frames N: frame N-1); a depth "
+                  "camera's: depth, surface, height above it, touch and hover");
   cmd->add_option("--tuio-out", options.tuioOut,
                   "also send each frame's contacts as TUIO 2.0 to HOST:PORT over UDP, or record "
                   "them to file:PATH (touchlib XML; time tags are the frames' times)");

@@ -142,9 +142,13 @@ void Arrow(cv::Mat& img, const cv::Point2d& from, const Vec2& displayVector, con
 // False (nothing drawn) before the first camera frame: the table drawing shows alone.
 bool SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Rect& tableRect,
                  cv::Mat& out) {
-  const cv::Mat& camera = sim.sensor().StageImage(SensingStage::kCamera);
+  // a depth frame (the depth camera's or a depth source's) shows the depth chain's stages
+  const bool depth = sim.cameraImage().type() == CV_16UC1;
+  const cv::Mat& camera = depth ? sim.depthSensor().StageImage(DepthStage::kDepth)
+                                : sim.sensor().StageImage(SensingStage::kCamera);
   if (camera.empty()) return false;
-  const std::vector<cv::Rect> tiles = SensingTiles(table.size(), camera.size(), top);
+  const int stages = depth ? kDepthStageCount : kSensingStageCount;
+  const std::vector<cv::Rect> tiles = SensingTiles(table.size(), camera.size(), top, stages + 1);
   if (tiles.empty()) return false;
   std::vector<PreviewContact> shown;
   for (const Contact& c : sim.contacts().contacts)
@@ -152,9 +156,11 @@ bool SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Rect&
   const cv::Size tile = tiles[0].size();
   // the preview's tiles at that size in one row, cut apart below
   const double scale = static_cast<double>(tile.width) / camera.cols;
-  const cv::Mat row = SensingPreview(sim.sensor(), shown, kSensingStageCount, scale);
+  const cv::Mat row =
+      depth ? DepthPreview(sim.depthSensor(), shown, sim.contours().hover, stages, scale)
+            : SensingPreview(sim.sensor(), shown, stages, scale);
   if (row.empty()) return false;
-  const cv::Size cut(row.cols / kSensingStageCount, row.rows);
+  const cv::Size cut(row.cols / stages, row.rows);
   out.create(table.size(), CV_8UC3);
   out.setTo(view_colors::kOutside);
 
@@ -170,7 +176,7 @@ bool SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Rect&
   }
   // then the preview's tiles in chain order (the preview rounds its tile size: the common part)
   const cv::Size common(std::min(cut.width, tile.width), std::min(cut.height, tile.height));
-  for (int k = 0; k < kSensingStageCount; ++k) {
+  for (int k = 0; k < stages; ++k) {
     const cv::Rect at = tiles[static_cast<size_t>(k) + 1];
     row(cv::Rect(k * cut.width, 0, common.width, common.height))
         .copyTo(out(cv::Rect(at.x, at.y, common.width, common.height)));
@@ -180,15 +186,15 @@ bool SensingView(const Simulation& sim, const cv::Mat& table, int top, cv::Rect&
 
 }  // namespace
 
-std::vector<cv::Rect> SensingTiles(cv::Size picture, cv::Size camera, int top) {
-  constexpr int kTiles = kSensingStageCount + 1;
+std::vector<cv::Rect> SensingTiles(cv::Size picture, cv::Size camera, int top, int count) {
   const int height = picture.height - std::max(0, top);
-  if (camera.width <= 0 || camera.height <= 0 || picture.width <= 0 || height <= 0) return {};
+  if (camera.width <= 0 || camera.height <= 0 || picture.width <= 0 || height <= 0 || count < 1)
+    return {};
   // the column count that gives the largest tiles
   int columns = 1;
   double scale = 0.0;
-  for (int c = 1; c <= kTiles; ++c) {
-    const int rows = (kTiles + c - 1) / c;
+  for (int c = 1; c <= count; ++c) {
+    const int rows = (count + c - 1) / c;
     const double s = std::min(static_cast<double>(picture.width) / (c * camera.width),
                               static_cast<double>(height) / (rows * camera.height));
     if (s > scale) {
@@ -196,14 +202,14 @@ std::vector<cv::Rect> SensingTiles(cv::Size picture, cv::Size camera, int top) {
       columns = c;
     }
   }
-  const int rows = (kTiles + columns - 1) / columns;
+  const int rows = (count + columns - 1) / columns;
   const cv::Size tile(static_cast<int>(camera.width * scale),
                       static_cast<int>(camera.height * scale));
   if (tile.width < 1 || tile.height < 1) return {};
   const cv::Point origin((picture.width - columns * tile.width) / 2,
                          std::max(0, top) + (height - rows * tile.height) / 2);
   std::vector<cv::Rect> tiles;
-  for (int i = 0; i < kTiles; ++i)
+  for (int i = 0; i < count; ++i)
     tiles.emplace_back(origin.x + (i % columns) * tile.width,
                        origin.y + (i / columns) * tile.height, tile.width, tile.height);
   return tiles;

@@ -7,9 +7,12 @@
 #include "xvfb.h"
 
 #include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/preview.h"
 
 #include <SDL.h>
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <cstdlib>
 #include <filesystem>
@@ -532,6 +535,76 @@ TEST_F(AppTest, AMissingCameraShowsNoInputAndKeepsRunning) {
   // the picture still shows the level and the error
   EXPECT_GT(test::FindColor(app.picture(), view_colors::Object(0), 12).count, 1000);
   EXPECT_GT(test::FindColor(app.picture(), view_colors::kError, 30).count, 50);
+}
+
+TEST_F(AppTest, TheSensingViewShowsTheDepthChainAndTheBandTunesLive) {
+  // a depth recording (16-bit PNGs, mm): a table 1000 mm away for the 15 frames of the surface,
+  // then 15 frames of a fingertip (a disk of 12 px, about 4 cm^2 of the 61 x 46 cm table mapped
+  // linearly from 640x480) 14 mm up at pixel (200, 240), in the touch band (about 6 to 20 mm:
+  // DepthSensor's tests), and a hole (no reading) over x 500-539, y 100-129
+  const std::string dir = OutDir() + "/depth_in";
+  std::filesystem::create_directories(dir);
+  for (int i = 0; i < 30; ++i) {
+    cv::Mat mm(480, 640, CV_16UC1, cv::Scalar(1000));
+    if (i >= 15) {
+      cv::circle(mm, {200, 240}, 12, cv::Scalar(986), cv::FILLED);
+      mm(cv::Rect(500, 100, 40, 30)).setTo(0);
+    }
+    char name[32];
+    std::snprintf(name, sizeof name, "/d%02d.png", i);
+    ASSERT_TRUE(cv::imwrite(dir + name, mm));
+  }
+  AppOptions options = Options(kTestData + "/box_goal.toml", "depth:" + dir);
+  options.view.sensing = true;
+  options.view.hud = false;
+  App app;
+  ASSERT_FALSE(app.Open(options));
+  for (int i = 0; i < 18; ++i) ASSERT_TRUE(app.Tick());
+  ASSERT_EQ(app.simulation().contours().blobs.size(), 1u);
+  ASSERT_TRUE(app.simulation().contours().hover.empty());
+
+  // six tiles without the heads-up lines: the table, then depth, surface, height, touch, hover
+  const std::vector<cv::Rect> tiles = SensingTiles(app.picture().size(), {640, 480}, 0, 6);
+  ASSERT_EQ(tiles.size(), 6u);
+  // pixels of a colour range in a tile's top three quarters (the height tile's legend strip, in
+  // the band's and the hover's colours, and the labels lie below them)
+  const auto count = [&](int tile, const cv::Scalar& lo, const cv::Scalar& hi) {
+    cv::Rect r = tiles[static_cast<size_t>(tile)];
+    r.height = r.height * 3 / 4;
+    cv::Mat mask;
+    cv::inRange(app.picture()(r), lo, hi, mask);
+    return cv::countNonZero(mask);
+  };
+  // band green (blue and red 0, green 140 to 255) in the height tile, magenta where the hole is
+  // in the depth tile; the fingertip's 450 px shrink with the tile (about 0.4 of its width) to
+  // some 70, the hole's 1200 to some 190: at least a third of each, for the averaged edges
+  const cv::Scalar bandLo(0, depth_colors::kBandDarkest, 0), bandHi(0, 255, 0);
+  const cv::Scalar hoverLo(255, 0, 0), hoverHi(255, 200, 0);
+  EXPECT_GT(count(3, bandLo, bandHi), 20);
+  EXPECT_EQ(count(3, hoverLo, hoverHi), 0);
+  EXPECT_GT(count(1, cv::Scalar(depth_colors::kNoReading), cv::Scalar(depth_colors::kNoReading)),
+            60);
+
+  // touch_high down to 1.2 cm, paused so that the change is all that happens: live, and from the
+  // next frame the fingertip (14 mm) is above the band, a hover region (hover_min_area 1 cm^2)
+  app.RequestPause(true);
+  ASSERT_TRUE(app.Tick());
+  const int64_t frame = app.simulation().Frame();
+  LevelParams params = app.simulation().params();
+  params.depth.touchHigh = 1.2;
+  app.RequestParams(params);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_EQ(app.tuneStatus(), "applied live: depth.touch_high");
+  EXPECT_EQ(app.simulation().Frame(), frame);
+  app.RequestPause(false);
+  ASSERT_TRUE(app.Tick());
+  EXPECT_EQ(app.simulation().Frame(), frame + 1);
+  EXPECT_TRUE(app.simulation().contours().blobs.empty());
+  EXPECT_EQ(app.simulation().contours().hover.size(), 1u);
+  // the height tile shows it: hover blue (255, 200 t, 0 with t = (14 - 12) / 288, so green 1)
+  // where the band's green was
+  EXPECT_GT(count(3, hoverLo, cv::Scalar(255, 10, 0)), 20);
+  EXPECT_EQ(count(3, bandLo, bandHi), 0);
 }
 
 TEST_F(AppTest, DepthInputsMissingDeviceRetriedMissingRecordingRefused) {

@@ -5,6 +5,7 @@
 
 #include "proxygrasp/sensing/calibration.h"
 #include "proxygrasp/sensing/depth_source.h"
+#include "proxygrasp/sensing/preview.h"
 #include "proxygrasp/sensing/synthetic_camera.h"
 #include "proxygrasp/tuio/decoder.h"
 #include "proxygrasp/tuio/touchlib_xml.h"
@@ -218,6 +219,65 @@ TEST(SenseCommand, DepthFolderPrintsContactsAndHoverWithHeights) {
     EXPECT_NEAR(NumberAfter(line.substr(hover), "\"height\": "), 5.0, 0.1);
     EXPECT_LT((Centroid(line.substr(hover)) - Vec2(45.0, 30.0)).norm(), 0.05);
   }
+}
+
+TEST(SenseCommand, PreviewOfADepthFolderWritesTheDepthTiles) {
+  // 16-bit PNGs in mm: a table 1000 mm away for the 15 frames of the surface ([depth]
+  // surface_frames), then a fingertip (a disk of 12 px) 14 mm up at pixel (200, 240), in the band
+  // (6 to 20 mm: DepthSensor's tests), and a hole (no reading) over x 500-539, y 100-129
+  namespace fs = std::filesystem;
+  const std::string dir = ::testing::TempDir() + "/sense_depth_preview";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (int i = 0; i < 16; ++i) {
+    cv::Mat mm(480, 640, CV_16UC1, cv::Scalar(1000));
+    if (i == 15) {
+      cv::circle(mm, {200, 240}, 12, cv::Scalar(986), cv::FILLED);
+      mm(cv::Rect(500, 100, 40, 30)).setTo(0);
+    }
+    char name[32];
+    std::snprintf(name, sizeof name, "/d%02d.png", i);
+    ASSERT_TRUE(cv::imwrite(dir + name, mm));
+  }
+  const std::string png = ::testing::TempDir() + "/sense_depth_preview.png";
+  fs::remove(png);
+  const auto r = RunProxygrasp("sense depth:" + dir + " --preview " + png);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(Count(r.output, "\"id\""), 1) << r.output.substr(0, 300);
+  // five tiles of 640x480 in 3 columns: depth, surface, height; touch, hover
+  const cv::Mat view = cv::imread(png);
+  ASSERT_FALSE(view.empty()) << png;
+  ASSERT_EQ(view.size(), cv::Size(3 * 640, 2 * 480));
+  // the fingertip: band green in the height tile (no blue, no red), white in the touch tile and
+  // black in the hover tile (left of its centre: its id is written up and right of it)
+  const cv::Vec3b height = view.at<cv::Vec3b>(240, 2 * 640 + 195);
+  EXPECT_EQ(height[0], 0);
+  EXPECT_EQ(height[2], 0);
+  EXPECT_GE(height[1], depth_colors::kBandDarkest);
+  EXPECT_EQ(view.at<cv::Vec3b>(480 + 240, 195), cv::Vec3b(255, 255, 255));
+  EXPECT_EQ(view.at<cv::Vec3b>(480 + 240, 640 + 195), cv::Vec3b(0, 0, 0));
+  // the hole: magenta in the depth tile, dark magenta on the touch mask
+  EXPECT_EQ(view.at<cv::Vec3b>(115, 520), depth_colors::kNoReading);
+  EXPECT_EQ(view.at<cv::Vec3b>(480 + 115, 520), depth_colors::kNoReadingMask);
+  EXPECT_THAT(r.output, Not(HasSubstr("not drawn")));
+}
+
+TEST(SenseCommand, PreviewOfALevelOnTheDepthCameraWritesTheDepthTiles) {
+  // side push on the synthetic depth camera: one fingertip touching from frame 0; frame 29's tiles
+  const std::string png = ::testing::TempDir() + "/sense_depth_level_preview.png";
+  std::filesystem::remove(png);
+  const auto r = RunProxygrasp("sense " + std::string(pg::test::SourceDir()) +
+                               "/levels/side_push.toml --set camera.kind=depth --frames 30 "
+                               "--preview " +
+                               png);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const cv::Mat view = cv::imread(png);
+  ASSERT_FALSE(view.empty()) << png;
+  ASSERT_EQ(view.size(), cv::Size(3 * 640, 2 * 480));
+  // the touch tile (row 1, column 0, above its label) holds the fingertip: some white pixels
+  cv::Mat touch;
+  cv::extractChannel(view(cv::Rect(0, 480, 640, 440)), touch, 0);
+  EXPECT_GT(cv::countNonZero(touch == 255), 20);
 }
 
 TEST(SenseCommand, CameraThatCannotBeOpened) {

@@ -406,6 +406,18 @@ TEST(SensingTiles, KeepTheTopFreeAndDoNotOverlap) {
   EXPECT_TRUE(SensingTiles({1024, 768}, {640, 480}, 768).empty());
 }
 
+TEST(SensingTiles, TheDepthChainsSixTiles) {
+  // the table and the depth chain's 5 stages in 1280x960 px: 2 columns of 3 rows would give tiles
+  // of min(1280 / 1280, 960 / 1440) = 0.667 of the camera's size, 3 columns of 2 rows
+  // min(1280 / 1920, 960 / 960) = 0.667 too (the first found is kept: 2 columns), 4 columns 0.5:
+  // at 0.667, tiles of 426x320
+  const std::vector<cv::Rect> tiles =
+      SensingTiles({1280, 960}, {640, 480}, 0, kDepthStageCount + 1);
+  ASSERT_EQ(tiles.size(), 6u);
+  for (const cv::Rect& t : tiles) EXPECT_EQ(t.size(), cv::Size(426, 320));
+  EXPECT_TRUE(SensingTiles({1280, 960}, {640, 480}, 0, 0).empty());
+}
+
 TEST_F(TableViewTest, SensingViewKeepsItsTilesBelowTheHeadsUpLinesAndMapsTheMouseThroughItsTable) {
   TableView view;
   ViewOptions options;

@@ -4,6 +4,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -408,6 +409,60 @@ TEST(Simulation, RetuneTakesEveryKeyLiveOrRestartsAsItsDescriptionSays) {
   }
   EXPECT_EQ(restart, static_cast<int>(RestartKeys().size()));
   EXPECT_GT(live, 30);
+}
+
+// A depth frame: a flat table 1000 mm away, without noise, and a disk of radius 40 px at the
+// image's centre `raisedMm` above it (0: none).
+cv::Mat FlatDepth(const LevelParams& params, int raisedMm) {
+  cv::Mat mm(params.camera.height, params.camera.width, CV_16UC1, cv::Scalar(1000));
+  if (raisedMm > 0)
+    cv::circle(mm, {params.camera.width / 2, params.camera.height / 2}, 40,
+               cv::Scalar(1000 - raisedMm), cv::FILLED);
+  return mm;
+}
+
+// The depth band takes a change from the next frame, over the whole image (the sensor's band
+// edges are otherwise refreshed a band of rows per frame as the surface learns). Heights: the
+// band's lower edge is max(touch_low 5 mm, noise_factor 4 x the noise floor 1.5 mm at 1 m) = 6 mm
+// on a noiseless surface at 1 m, its upper edge touch_high 20 mm, the hover ceiling 300 mm; a disk
+// 15 mm up touches. With touch_high 1.2 cm it is above the band: it hovers (hover starts at
+// max(12, 6) mm). With hover_ceiling 1.0 cm as well it is above both: neither. Its area, about
+// 5000 px of a 640x480 image of a 61x46 cm table (about 0.0091 cm^2 a pixel), is some 46 cm^2,
+// far above min_area and hover_min_area, so only the band decides.
+TEST(Simulation, RetuneMovesTheDepthBandFromTheNextFrame) {
+  const Level level = BoxLevel();
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  const LevelParams& p = sim.params();
+  for (int i = 0; i < p.depth.surfaceFrames; ++i) ASSERT_FALSE(sim.StepImage(FlatDepth(p, 0)));
+  ASSERT_TRUE(sim.depthSensor().HasSurface());
+  // a few frames with the disk, so that every band of rows has learned (and kept its edges)
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_FALSE(sim.StepImage(FlatDepth(p, 15)));
+    ASSERT_EQ(sim.contours().blobs.size(), 1u);
+    ASSERT_TRUE(sim.contours().hover.empty());
+  }
+
+  LevelParams params = sim.params();
+  params.depth.touchHigh = 1.2;
+  Result<RetuneReport> report = sim.Retune(params);
+  ASSERT_TRUE(report.ok()) << report.error().Format();
+  EXPECT_EQ(report.value().live, (std::vector<std::string>{"depth.touch_high"}));
+  ASSERT_FALSE(sim.StepImage(FlatDepth(params, 15)));
+  EXPECT_TRUE(sim.contours().blobs.empty());
+  EXPECT_EQ(sim.contours().hover.size(), 1u);
+
+  params.depth.hoverCeiling = 1.0;
+  ASSERT_TRUE(sim.Retune(params).ok());
+  ASSERT_FALSE(sim.StepImage(FlatDepth(params, 15)));
+  EXPECT_TRUE(sim.contours().blobs.empty());
+  EXPECT_TRUE(sim.contours().hover.empty());
+
+  // back to the level's band: it touches again
+  ASSERT_TRUE(sim.Retune(level.params).ok());
+  ASSERT_FALSE(sim.StepImage(FlatDepth(level.params, 15)));
+  EXPECT_EQ(sim.contours().blobs.size(), 1u);
+  EXPECT_TRUE(sim.contours().hover.empty());
 }
 
 TEST(Simulation, RetuneBeforeStartIsAnError) {

@@ -86,10 +86,12 @@ inline constexpr int kLabelGap = 6;
 /// first). A box with no free place anywhere keeps the place it wants.
 std::vector<cv::Rect> SpreadLabels(std::span<const cv::Rect> wanted, cv::Size image);
 
-/// The sensing view's grid in a picture of `picture` px: the table drawing's tile first, then one
-/// tile per sensing stage, each of the camera's aspect, laid out to be largest below the top `top`
-/// px (kept for the heads-up lines), centred. Empty when nothing fits.
-std::vector<cv::Rect> SensingTiles(cv::Size picture, cv::Size camera, int top);
+/// The sensing view's grid in a picture of `picture` px: `count` tiles, the table drawing's first,
+/// then one per sensing stage (the IR chain's kSensingStageCount, the depth chain's
+/// kDepthStageCount), each of the camera's aspect, laid out to be largest below the top `top` px
+/// (kept for the heads-up lines), centred. Empty when nothing fits.
+std::vector<cv::Rect> SensingTiles(cv::Size picture, cv::Size camera, int top,
+                                   int count = kSensingStageCount + 1);
 
 /// Colours of the drawing (BGR), shared with tests that look for them.
 namespace view_colors {

@@ -70,6 +70,9 @@ class DepthSensor {
   /// the band uses at least DepthParams::noiseFloor scaled to the distance).
   const cv::Mat& Surface() const { return m_surface; }
   const cv::Mat& SurfaceNoise() const { return m_noise; }
+  /// The touch band's lower edge per pixel, mm (CV_32F; empty before the surface is learned):
+  /// touch_low, or noise_factor deviations of the pixel's noise when that is higher.
+  const cv::Mat& BandLow() const { return m_threshold; }
   /// Uses this surface (CV_32F mm, holes as 0 filled from neighbours) with `noise` mm everywhere.
   MaybeError SetSurface(const cv::Mat& surfaceMm, double noiseMm);
 
