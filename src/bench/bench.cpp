@@ -74,9 +74,9 @@ size_t BareSensingChain::Step(const cv::Mat& frame) {
   return m_contours.size();
 }
 
-BareDepthChain::BareDepthChain(const cv::Mat& surfaceMm, double lowMm, double highMm,
+BareDepthChain::BareDepthChain(const cv::Mat& surfaceMm, const cv::Mat& lowMm, double highMm,
                                int morphology)
-    : m_surface(surfaceMm), m_low(lowMm), m_high(highMm) {
+    : m_surface(surfaceMm), m_low(lowMm), m_high(surfaceMm.size(), CV_32F, cv::Scalar(highMm)) {
   if (morphology > 0) m_kernel = OpeningKernel(morphology);
 }
 
@@ -483,9 +483,21 @@ MaybeError RunDepthScene(const BenchOptions& options, BenchReport& report) {
       if (!f.ok()) return f.error();
       if (static_cast<int>(i) >= learn) ours.push_back(ms);
     }
-    // the bare chain on the surface the sensor learned, its band the default lower edge
-    BareDepthChain chain(sensor.Surface(), 10.0 * params.depth.touchLow,
-                         10.0 * params.depth.touchHigh, params.sensing.morphology);
+    // the bare chain on the surface the sensor learned; its band's lower edge per pixel is the
+    // sensor's noise edge, max(touch_low, noise_factor x max(deviation, noise_floor (z / 1 m)^2)),
+    // as the same touch mask needs it (at 1 m the noise edge, 6 mm, is above touch_low's 5)
+    const cv::Mat& surface = sensor.Surface();
+    const float lowMm = static_cast<float>(10.0 * params.depth.touchLow);
+    const float factor = static_cast<float>(params.depth.noiseFactor);
+    const float floorPerMm2 = static_cast<float>(params.depth.noiseFloor * 1e-6);
+    cv::Mat low(size, CV_32F);
+    for (int v = 0; v < size.height; ++v) {
+      for (int u = 0; u < size.width; ++u) {
+        const float z = surface.at<float>(v, u), noise = sensor.SurfaceNoise().at<float>(v, u);
+        low.at<float>(v, u) = std::max(lowMm, factor * std::max(noise, floorPerMm2 * z * z));
+      }
+    }
+    BareDepthChain chain(surface, low, 10.0 * params.depth.touchHigh, params.sensing.morphology);
     for (size_t i = static_cast<size_t>(learn); i < frames.size(); ++i) {
       const Stopwatch watch(options.clock);
       chain.Step(frames[i]);

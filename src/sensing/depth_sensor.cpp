@@ -4,6 +4,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 
@@ -131,7 +135,6 @@ void DepthSensor::UpdateBand() {
     for (int x = 0; x < m_noise.cols; ++x)
       t[x] = std::max(low, k * std::max(n[x], floor * s[x] * s[x]));
   }
-  UpdateBounds(0, m_size.height);
 }
 
 MaybeError DepthSensor::SetSurface(const cv::Mat& surfaceMm, double noiseMm) {
@@ -191,12 +194,10 @@ Result<ContourFrame> DepthSensor::Step(const cv::Mat& depthMm, int64_t index, do
 
   // heights, the band and the hover above it; the opening takes specks and one-pixel rims away
   Classify(depthMm);
-  if (!m_kernel.empty()) {
-    cv::morphologyEx(m_touch, m_touch, cv::MORPH_OPEN, m_kernel);
-    cv::morphologyEx(m_hover, m_hover, cv::MORPH_OPEN, m_kernel);
-  }
-  Extract(m_touch, m_sensing.minArea, out.blobs);
-  Extract(m_hover, m_depth.hoverMinArea, out.hover);
+  const bool touchAreas = Open(m_touch, m_touchRows, m_touchAreas);
+  const bool hoverAreas = Open(m_hover, m_hoverRows, m_hoverAreas);
+  Extract(m_touch, touchAreas ? &m_touchAreas : nullptr, m_sensing.minArea, out.blobs);
+  Extract(m_hover, hoverAreas ? &m_hoverAreas : nullptr, m_depth.hoverMinArea, out.hover);
   Learn(depthMm, dt);
   return out;
 }
@@ -254,36 +255,113 @@ void DepthSensor::Seed(const cv::Mat& depthMm) {
 }
 
 void DepthSensor::Classify(const cv::Mat& depthMm) {
-  // height above the surface, then each band by its per-pixel edges (UpdateBounds); a pixel
-  // without a reading (0) stands the whole surface distance up, above both bands' upper edges
-  depthMm.convertTo(m_float, CV_32F);
-  cv::subtract(m_surface, m_float, m_height);
-  cv::inRange(m_height, m_threshold, m_touchHigh, m_touch);
-  cv::inRange(m_height, m_hoverLow, m_hoverHigh, m_hover);
-}
-
-void DepthSensor::UpdateBounds(int y0, int y1) {
-  // touch: from the noise edge to touch_high; hover: above both up to hover_ceiling (it too must
-  // stand out of the pixel's noise, which far from the camera is more than the band); both end
-  // half a mm short of the surface's own distance, so that no reading (0) is in neither
+  // one pass: the height above the surface; touch from the noise edge (m_threshold) to
+  // touch_high; hover above both (it too must stand out of the pixel's noise, which far from the
+  // camera is more than the band) up to hover_ceiling; both bands end half a mm short of the
+  // surface's own distance, so that a pixel without a reading (0), which stands the whole
+  // surface distance up, is in neither. Each edge is inclusive, as cv::inRange's. Each mask's
+  // rows holding a pixel are marked for the opening.
   const float high = static_cast<float>(10.0 * m_depth.touchHigh);
   const float ceiling = static_cast<float>(10.0 * m_depth.hoverCeiling);
   constexpr float kAbove = 1e-3f;  // mm: the bands do not share their common edge
-  m_touchHigh.create(m_size, CV_32F);
-  m_hoverLow.create(m_size, CV_32F);
-  m_hoverHigh.create(m_size, CV_32F);
-  for (int y = y0; y < y1; ++y) {
+  m_height.create(m_size, CV_32F);
+  m_touch.create(m_size, CV_8UC1);
+  m_hover.create(m_size, CV_8UC1);
+  m_touchRows.assign(static_cast<size_t>(m_size.height), 0);
+  m_hoverRows.assign(static_cast<size_t>(m_size.height), 0);
+  for (int y = 0; y < m_size.height; ++y) {
+    const uint16_t* d = depthMm.ptr<uint16_t>(y);
     const float* s = m_surface.ptr<float>(y);
     const float* t = m_threshold.ptr<float>(y);
-    float* th = m_touchHigh.ptr<float>(y);
-    float* hl = m_hoverLow.ptr<float>(y);
-    float* hh = m_hoverHigh.ptr<float>(y);
-    for (int x = 0; x < m_size.width; ++x) {
-      th[x] = std::min(high, s[x] - 0.5f);
-      hl[x] = std::max(high, t[x]) + kAbove;
-      hh[x] = std::min(ceiling, s[x] - 0.5f);
+    float* h = m_height.ptr<float>(y);
+    uint8_t* touch = m_touch.ptr<uint8_t>(y);
+    uint8_t* hover = m_hover.ptr<uint8_t>(y);
+    uint8_t anyTouch = 0, anyHover = 0;
+    int x = 0;
+#if defined(__SSE2__)
+    // 16 pixels at a time, the same float operations as below
+    const __m128 highV = _mm_set1_ps(high), ceilingV = _mm_set1_ps(ceiling);
+    const __m128 halfV = _mm_set1_ps(0.5f), aboveV = _mm_set1_ps(kAbove);
+    __m128i anyTouchV = _mm_setzero_si128(), anyHoverV = _mm_setzero_si128();
+    for (; x + 16 <= m_size.width; x += 16) {
+      __m128i in[4], above[4];
+      for (int half = 0; half < 2; ++half) {
+        const __m128i raw = _mm_loadu_si128(reinterpret_cast<const __m128i*>(d + x + 8 * half));
+        const __m128i wide[2] = {_mm_unpacklo_epi16(raw, _mm_setzero_si128()),
+                                 _mm_unpackhi_epi16(raw, _mm_setzero_si128())};
+        for (int q = 0; q < 2; ++q) {
+          const int i = x + 8 * half + 4 * q;
+          const __m128 sv = _mm_loadu_ps(s + i), tv = _mm_loadu_ps(t + i);
+          const __m128 height = _mm_sub_ps(sv, _mm_cvtepi32_ps(wide[q]));
+          const __m128 edge = _mm_sub_ps(sv, halfV);
+          _mm_storeu_ps(h + i, height);
+          in[2 * half + q] = _mm_castps_si128(
+              _mm_and_ps(_mm_cmpge_ps(height, tv), _mm_cmple_ps(height, _mm_min_ps(highV, edge))));
+          above[2 * half + q] = _mm_castps_si128(
+              _mm_and_ps(_mm_cmpge_ps(height, _mm_add_ps(_mm_max_ps(highV, tv), aboveV)),
+                         _mm_cmple_ps(height, _mm_min_ps(ceilingV, edge))));
+        }
+      }
+      // all-ones lanes packed down to 255 bytes
+      const __m128i touchBytes =
+          _mm_packs_epi16(_mm_packs_epi32(in[0], in[1]), _mm_packs_epi32(in[2], in[3]));
+      const __m128i hoverBytes =
+          _mm_packs_epi16(_mm_packs_epi32(above[0], above[1]), _mm_packs_epi32(above[2], above[3]));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(touch + x), touchBytes);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(hover + x), hoverBytes);
+      anyTouchV = _mm_or_si128(anyTouchV, touchBytes);
+      anyHoverV = _mm_or_si128(anyHoverV, hoverBytes);
     }
+    anyTouch = _mm_movemask_epi8(anyTouchV) ? 255 : 0;
+    anyHover = _mm_movemask_epi8(anyHoverV) ? 255 : 0;
+#endif
+    for (; x < m_size.width; ++x) {
+      const float height = s[x] - static_cast<float>(d[x]);
+      const float edge = s[x] - 0.5f;
+      const uint8_t in = (height >= t[x]) & (height <= std::min(high, edge)) ? 255 : 0;
+      const uint8_t above =
+          (height >= std::max(high, t[x]) + kAbove) & (height <= std::min(ceiling, edge)) ? 255 : 0;
+      h[x] = height;
+      touch[x] = in;
+      hover[x] = above;
+      anyTouch |= in;
+      anyHover |= above;
+    }
+    m_touchRows[static_cast<size_t>(y)] = anyTouch ? 1 : 0;
+    m_hoverRows[static_cast<size_t>(y)] = anyHover ? 1 : 0;
   }
+}
+
+bool DepthSensor::Open(cv::Mat& mask, std::vector<uint8_t>& rows, std::vector<cv::Rect>& areas) {
+  areas.clear();
+  if (m_kernel.empty()) return false;
+  if (m_sensing.morphology != 1) {
+    cv::morphologyEx(mask, mask, cv::MORPH_OPEN, m_kernel);
+    return false;
+  }
+  // the 3x3 cross (radius 1, the default): a pixel survives the erosion only with its rows above
+  // and below holding pixels too, so only runs of three or more rows holding any can hold any
+  // after the opening. Shorter runs (specks) are cleared, which is what the opening does to
+  // them; the runs are opened by OpenCross3, bit for bit as cv::morphologyEx, and the rest of
+  // the frame, 0 before, is 0 after.
+  const int height = m_size.height;
+  for (int y = 0; y < height;) {
+    if (!rows[static_cast<size_t>(y)]) {
+      ++y;
+      continue;
+    }
+    int end = y;
+    while (end < height && rows[static_cast<size_t>(end)]) ++end;
+    if (end - y >= 3) {
+      areas.emplace_back(0, y, m_size.width, end - y);
+    } else {
+      mask.rowRange(y, end).setTo(0);
+      std::fill(rows.begin() + y, rows.begin() + end, uint8_t{0});
+    }
+    y = end;
+  }
+  if (!areas.empty()) OpenCross3(mask, m_eroded, &areas);
+  return true;
 }
 
 void DepthSensor::Learn(const cv::Mat& depthMm, double dt) {
@@ -305,10 +383,19 @@ void DepthSensor::Learn(const cv::Mat& depthMm, double dt) {
   // where something is near (touch or hover, grown), the surface does not learn
   const int a = std::max(0, y0 - kNearMargin), b = std::min(m_size.height, y1 + kNearMargin);
   const cv::Rect rows(0, a, m_size.width, b - a);
-  cv::bitwise_or(m_touch(rows), m_hover(rows), m_scratch);
-  cv::dilate(m_scratch, m_near,
-             cv::getStructuringElement(cv::MORPH_RECT,
-                                       cv::Size(2 * kNearMargin + 1, 2 * kNearMargin + 1)));
+  bool anyNear = false;
+  for (int y = a; y < b && !anyNear; ++y)
+    anyNear = m_touchRows[static_cast<size_t>(y)] || m_hoverRows[static_cast<size_t>(y)];
+  if (anyNear) {
+    cv::bitwise_or(m_touch(rows), m_hover(rows), m_scratch);
+    cv::dilate(m_scratch, m_near,
+               cv::getStructuringElement(cv::MORPH_RECT,
+                                         cv::Size(2 * kNearMargin + 1, 2 * kNearMargin + 1)));
+  } else {
+    // nothing near in these rows (the masks' rows hold no pixel): the dilation would be 0
+    m_near.create(rows.size(), CV_8UC1);
+    m_near.setTo(0);
+  }
   const float low = static_cast<float>(10.0 * m_depth.touchLow);
   const float k = static_cast<float>(m_depth.noiseFactor);
   const float floor = NoiseFloorPerMm2(m_depth);
@@ -335,12 +422,24 @@ void DepthSensor::Learn(const cv::Mat& depthMm, double dt) {
       t[x] = std::max(low, k * std::max(n[x], floor * s[x] * s[x]));
     }
   }
-  UpdateBounds(y0, y1);
 }
 
-void DepthSensor::Extract(const cv::Mat& mask, double minArea, std::vector<Blob>& blobs) {
+void DepthSensor::Extract(const cv::Mat& mask, const std::vector<cv::Rect>* areas, double minArea,
+                          std::vector<Blob>& blobs) {
   blobs.clear();
-  cv::findContours(mask, m_contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  if (!areas) {
+    cv::findContours(mask, m_contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  } else {
+    // the areas are runs of rows with empty rows between them and the mask 0 outside them: each
+    // region lies in one. findContours lists the regions it meets last first, so the areas from
+    // the bottom give them in the order (and with the points) that the whole mask gives
+    m_contours.clear();
+    for (auto area = areas->rbegin(); area != areas->rend(); ++area) {
+      cv::findContours(mask(*area), m_areaContours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE,
+                       area->tl());
+      for (std::vector<cv::Point>& c : m_areaContours) m_contours.push_back(std::move(c));
+    }
+  }
   const bool linear = !m_model.HasDistortion();
   for (const std::vector<cv::Point>& pixels : m_contours) {
     // cheap reject of specks, as the IR chain does

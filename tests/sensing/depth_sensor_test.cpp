@@ -3,9 +3,11 @@
 #include "real_data.h"
 
 #include "proxygrasp/sensing/depth_source.h"
+#include "proxygrasp/sensing/sensor.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
 #include <functional>
@@ -242,6 +244,69 @@ int ContactsWhileTheTableRises(double learning, double* lagMm) {
     for (int u = 0; u < 160; ++u) sum += sensor.Surface().at<float>(v, u) - scene.TableMm(u, v);
   *lagMm = sum / (160.0 * 120.0);
   return contacts;
+}
+
+// The one pass that classifies, and the opening and contours of only the rows that can hold a
+// region (docs/sensing.md, "Speed"), give bit for bit what the rule computed over the whole image
+// by plain OpenCV calls gives: height = surface - frame; touch = inRange(height, the noise edge,
+// min(touch_high, surface - 0.5 mm)); hover = inRange(height, max(touch_high, edge) + 0.001 mm,
+// min(hover_ceiling, surface - 0.5 mm)); each opened by cv::morphologyEx with the 3x3 cross. No
+// tolerance: the same float operations must give the same bits. The image is 630 px wide (39
+// blocks of 16 and 6 more, so the pass's tail runs too); fingertips touch, a palm hovers 5 cm up
+// on rows shared with them, a hole has no reading, and the 1.5 mm noise against a 6 mm edge
+// (4 deviations) leaves specks that the opening removes (checked to be there).
+TEST(DepthSensor, StageImagesAreWhatTheWholeImageOpenCVCallsGive) {
+  Scene scene(cv::Size(630, 470), 11);
+  scene.SetHole(cv::Rect(40, 200, 25, 12));
+  const DepthParams p;
+  DepthSensor sensor = Configured(scene.size());
+  int64_t index = 0;
+  StepFrames(sensor, scene, {}, index, p.surfaceFrames);
+  const cv::Mat kernel = OpeningKernel(1);
+  int specks = 0;
+  for (int i = 0; i < 20; ++i, ++index) {
+    const double x = 10.0 + 0.5 * i;
+    const std::vector<Shape> shapes = {{Vec2(x, 23), Vec2(x, 23)},
+                                       {Vec2(x + 12, 10), Vec2(x + 12, 10)},
+                                       {Vec2(x + 25, 23), Vec2(x + 25, 23), 4.0, 60.0}};
+    const cv::Mat frame = scene.Render(shapes);
+    const cv::Mat surface = sensor.Surface().clone(), noise = sensor.SurfaceNoise().clone();
+    ASSERT_TRUE(sensor.Step(frame, index, static_cast<double>(index) / kFps).ok());
+
+    cv::Mat asFloat, height;
+    frame.convertTo(asFloat, CV_32F);
+    cv::subtract(surface, asFloat, height);
+    cv::Mat touchLow(scene.size(), CV_32F), touchHigh(scene.size(), CV_32F);
+    cv::Mat hoverLow(scene.size(), CV_32F), hoverHigh(scene.size(), CV_32F);
+    const float low = static_cast<float>(10.0 * p.touchLow), k = static_cast<float>(p.noiseFactor);
+    const float floor = static_cast<float>(p.noiseFloor * 1e-6);
+    const float high = static_cast<float>(10.0 * p.touchHigh);
+    const float ceiling = static_cast<float>(10.0 * p.hoverCeiling);
+    for (int v = 0; v < surface.rows; ++v) {
+      for (int u = 0; u < surface.cols; ++u) {
+        const float s = surface.at<float>(v, u);
+        const float edge = std::max(low, k * std::max(noise.at<float>(v, u), floor * s * s));
+        touchLow.at<float>(v, u) = edge;
+        touchHigh.at<float>(v, u) = std::min(high, s - 0.5f);
+        hoverLow.at<float>(v, u) = std::max(high, edge) + 1e-3f;
+        hoverHigh.at<float>(v, u) = std::min(ceiling, s - 0.5f);
+      }
+    }
+    cv::Mat touch, hover, opened;
+    cv::inRange(height, touchLow, touchHigh, touch);
+    cv::inRange(height, hoverLow, hoverHigh, hover);
+    cv::morphologyEx(touch, opened, cv::MORPH_OPEN, kernel);
+    specks += cv::countNonZero(touch) - cv::countNonZero(opened);
+    touch = opened;
+    cv::morphologyEx(hover, hover, cv::MORPH_OPEN, kernel);
+
+    EXPECT_EQ(cv::norm(height, sensor.StageImage(DepthStage::kHeight), cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::countNonZero(touch != sensor.StageImage(DepthStage::kTouch)), 0) << i;
+    EXPECT_EQ(cv::countNonZero(hover != sensor.StageImage(DepthStage::kHover)), 0) << i;
+    EXPECT_GT(cv::countNonZero(touch), 0);
+    EXPECT_GT(cv::countNonZero(hover), 0);
+  }
+  EXPECT_GT(specks, 0) << "no specks: the test would not see them cleared";
 }
 
 TEST(DepthSensor, SurfaceFollowsATableThatChangesSlowly) {

@@ -43,18 +43,20 @@ class BareSensingChain {
 };
 
 /// The depth chain as bare OpenCV calls (issue 43): the frame less the surface, the touch band
-/// thresholded, the opening and findContours; no learning, hover, heights or table mapping. The
-/// baseline DepthSensor is compared with.
+/// thresholded between a lower edge per pixel (DepthSensor's noise edge) and touch_high, the
+/// opening and findContours; no learning, hover, heights or table mapping. The baseline
+/// DepthSensor is compared with.
 class BareDepthChain {
  public:
-  /// surfaceMm: CV_32F, mm; the band in mm above it; the opening's radius in pixels.
-  BareDepthChain(const cv::Mat& surfaceMm, double lowMm, double highMm, int morphology);
+  /// surfaceMm: CV_32F, mm; the band's lower edge per pixel (CV_32F, mm above the surface) and
+  /// its upper edge, mm; the opening's radius in pixels.
+  BareDepthChain(const cv::Mat& surfaceMm, const cv::Mat& lowMm, double highMm, int morphology);
   /// Runs the chain on one CV_16UC1 frame (mm) of the surface's size; returns the contours found.
   size_t Step(const cv::Mat& depthMm);
 
  private:
   cv::Mat m_surface;
-  double m_low = 0.0, m_high = 0.0;
+  cv::Mat m_low, m_high;  // CV_32F, mm
   cv::Mat m_kernel;
   cv::Mat m_float, m_height, m_binary;
   std::vector<std::vector<cv::Point>> m_contours;

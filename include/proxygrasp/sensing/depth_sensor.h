@@ -85,12 +85,14 @@ class DepthSensor {
  private:
   // the band's lower edge per pixel, from the noise and the parameters
   void UpdateBand();
-  // the bands' other edges per pixel, rows y0 to y1
-  void UpdateBounds(int y0, int y1);
   void Seed(const cv::Mat& depthMm);
   void Classify(const cv::Mat& depthMm);
+  // the opening; true when only `areas` (rows) of the mask can hold pixels after it
+  bool Open(cv::Mat& mask, std::vector<uint8_t>& rows, std::vector<cv::Rect>& areas);
   void Learn(const cv::Mat& depthMm, double dt);
-  void Extract(const cv::Mat& mask, double minArea, std::vector<Blob>& blobs);
+  // the regions of `mask` (in `areas` only, when given)
+  void Extract(const cv::Mat& mask, const std::vector<cv::Rect>* areas, double minArea,
+               std::vector<Blob>& blobs);
 
   DepthParams m_depth;
   SensingParams m_sensing;
@@ -104,9 +106,8 @@ class DepthSensor {
   cv::Mat m_sum, m_sumSq, m_count;  // CV_64F / CV_32S while seeding
   int m_seedFrames = 0;
   bool m_seeded = false;
-  cv::Mat m_surface, m_noise;                    // CV_32F
-  cv::Mat m_threshold;                           // CV_32F: the band's lower edge per pixel, mm
-  cv::Mat m_touchHigh, m_hoverLow, m_hoverHigh;  // CV_32F: the other edges, mm
+  cv::Mat m_surface, m_noise;  // CV_32F
+  cv::Mat m_threshold;         // CV_32F: the band's lower edge per pixel, mm
   double m_lastTime = 0.0;
   bool m_haveTime = false;
   static constexpr int kLearnBands = 8;
@@ -116,10 +117,13 @@ class DepthSensor {
   // stage images, reused
   cv::Mat m_frame;   // CV_16UC1
   cv::Mat m_height;  // CV_32F, mm
-  cv::Mat m_float;   // the frame as CV_32F
-  cv::Mat m_touch, m_hover, m_near, m_scratch;
+  cv::Mat m_touch, m_hover, m_near, m_scratch, m_eroded;
+  // per row of the touch and hover masks: 1 where the row holds a pixel; the rows' areas where
+  // the opened masks can hold any (empty: the whole image)
+  std::vector<uint8_t> m_touchRows, m_hoverRows;
+  std::vector<cv::Rect> m_touchAreas, m_hoverAreas;
   cv::Mat m_kernel;
-  std::vector<std::vector<cv::Point>> m_contours;
+  std::vector<std::vector<cv::Point>> m_contours, m_areaContours;
   std::vector<float> m_values;  // heights around one contour point
 };
 
