@@ -110,16 +110,11 @@ MaybeError DepthSensor::SetParams(const DepthParams& depth, const SensingParams&
   const bool band = depth.touchLow != m_depth.touchLow ||
                     depth.noiseFactor != m_depth.noiseFactor ||
                     depth.noiseFloor != m_depth.noiseFloor;
-  // the band's other edges too, over the whole image from the next frame (Learn refreshes them
-  // only a band of rows at a time)
-  const bool bounds =
-      depth.touchHigh != m_depth.touchHigh || depth.hoverCeiling != m_depth.hoverCeiling;
   m_depth = depth;
   m_sensing = sensing;
-  if (band && m_seeded)
-    UpdateBand();
-  else if (bounds && m_seeded)
-    UpdateBounds(0, m_size.height);
+  // the lower edge is per pixel (it follows the noise); touch_high and hover_ceiling are read by
+  // every frame's classification, so they apply from the next frame as they are
+  if (band && m_seeded) UpdateBand();
   return std::nullopt;
 }
 
