@@ -316,7 +316,11 @@ MaybeError App::Impl::Adopt(Level next, const std::string& path) {
 }
 
 MaybeError App::Impl::StartRun(const Level& runLevel, const LevelParams& runParams) {
-  if (MaybeError s = sim.Start(runLevel, runParams)) return s;
+  // frames from a depth source are not the synthetic camera's: the depth chain learns its surface
+  // from their first frames
+  SimulationOptions setup;
+  setup.cameraBackground = !IsDepthSourceSpec(options.input);
+  if (MaybeError s = sim.Start(runLevel, runParams, setup)) return s;
   // the level's own input (its script, recording or TUIO stream) starts again with the run
   if (input == InputKind::kScript) {
     Result<FrameInput> levelInput = FrameInput::ForLevel(runLevel);

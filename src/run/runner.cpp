@@ -2,6 +2,7 @@
 
 #include "proxygrasp/run/frame_input.h"
 #include "proxygrasp/run/trace.h"
+#include "proxygrasp/sensing/depth_source.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +28,11 @@ std::string RunTraceDir(const RunOptions& options, const std::string& runName, s
 Result<RunResult> RunOne(const Level& level, const LevelRun& run, const RunOptions& options,
                          size_t runCount, Profile& profile, const FrameObserver& observer) {
   Simulation sim;
-  if (MaybeError s = sim.Start(level, RunParams(level, run))) return *s;
+  // frames from a depth source (--input depth:DIR, fakenect:DIR, a device) are not the synthetic
+  // camera's: the depth chain learns its surface from their first frames, as it would on a table
+  SimulationOptions setup;
+  setup.cameraBackground = options.input.empty() || !IsDepthSourceSpec(options.input);
+  if (MaybeError s = sim.Start(level, RunParams(level, run), setup)) return *s;
   RunResult out;
   out.run = run;
   out.name = RunName(run);

@@ -536,6 +536,16 @@ bool SampledHandDistance(const ContactShape& shape, const Vec2& tablePoint, doub
   return true;
 }
 
+std::vector<Circle> HandFingertips(const ContactShape& shape) {
+  std::vector<Circle> tips;
+  if (shape.kind != ShapeKind::kHandFive && shape.kind != ShapeKind::kHandFlat) return tips;
+  const HandModel& hand = HandFor(shape.kind);
+  const double scale = std::max(shape.scale, 1e-6);
+  for (size_t i = 0; i < hand.fingers.size(); ++i)
+    tips.push_back({shape.pose.Apply(scale * hand.tips[i]), scale * hand.fingers[i].radius});
+  return tips;
+}
+
 Contour ShapeOutline(const ContactShape& shape) {
   const Contour local = LocalOutline(shape);
   Contour out(2, local.cols());

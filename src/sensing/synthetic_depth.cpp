@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace pg {
 
@@ -46,6 +47,9 @@ constexpr int kTile = 8;
 // a surface point is in the projector's shadow when the height field rises this much above its
 // ray to the projector, cm (bilinear sampling of a sloped surface must not shadow itself)
 constexpr double kShadowMargin = 0.02;
+// a camera ray marches down at most this far a step, cm: less than the thinnest body (a pad,
+// finger_thickness 1.2 cm at the defaults) and its rounded rim's outer tenth
+constexpr double kMarchStep = 0.1;
 // a camera ray's crossing with the height field is found to within this, cm
 constexpr double kCrossingTolerance = 0.002;
 
@@ -88,22 +92,29 @@ uint16_t Report(double mm, bool steps) {
   return static_cast<uint16_t>(std::clamp<long>(std::lround(mm), 0, 65535));
 }
 
-// the height field: bilinear reads, and its maximum over rectangles (through kTile tiles)
+// the height field: the bodies' tops and undersides (a body is solid between them, air below
+// it), bilinear reads, and the tops' maximum over rectangles (through kTile tiles)
 struct HeightField {
   cv::Mat top;      // CV_32F, cm above the table, 0 = the table
+  cv::Mat bottom;   // CV_32F, the bodies' undersides, cm above the table, 0 = the table
   cv::Mat tileMax;  // CV_32F, the maximum of each kTile x kTile tile
   int w = 0, h = 0;
 
   // bilinear at pixel coordinates (pixel centres at integers); 0 off the image
-  double At(double x, double y) const {
+  static double Bilinear(const cv::Mat& m, int w, int h, double x, double y) {
     if (!(x > -1.0 && y > -1.0 && x < w && y < h)) return 0.0;
     const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
     const double fx = x - x0, fy = y - y0;
     auto px = [&](int u, int v) {
-      return u >= 0 && v >= 0 && u < w && v < h ? static_cast<double>(top.at<float>(v, u)) : 0.0;
+      return u >= 0 && v >= 0 && u < w && v < h ? static_cast<double>(m.at<float>(v, u)) : 0.0;
     };
     return (1.0 - fy) * ((1.0 - fx) * px(x0, y0) + fx * px(x0 + 1, y0)) +
            fy * ((1.0 - fx) * px(x0, y0 + 1) + fx * px(x0 + 1, y0 + 1));
+  }
+  double At(double x, double y) const { return Bilinear(top, w, h, x, y); }
+  // whether height z at pixel coordinates (x, y) is inside a body or the table (z <= 0)
+  bool Solid(double x, double y, double z) const {
+    return z <= 0.0 || (At(x, y) >= z && Bilinear(bottom, w, h, x, y) <= z);
   }
 
   // the highest point within [x0, x1] x [y0, y1] px (and a pixel around, for bilinear reads)
@@ -142,17 +153,24 @@ double IrHoverDimming(double height) {
   return height > 0.0 ? std::exp(-height / kIrHoverFade) : 1.0;
 }
 
-double BodyTopHeight(const ContactShape& s, const SyntheticCameraParams& p,
-                     const Vec2& tablePoint) {
+namespace {
+
+// A body's top above the table at a table point, cm (negative where the body is not), and its
+// underside there (`underside`, cm; set only where the body is): a body is solid from its
+// underside to its top, with air below it when it hovers or rises.
+double BodyAt(const ContactShape& s, const SyntheticCameraParams& p, const Vec2& tablePoint,
+              double& underside) {
   const Vec2 local = s.pose.Inverse(tablePoint);
   const double base = std::max(s.height, 0.0);
+  underside = base;
   switch (s.kind) {
     case ShapeKind::kCircle: {
       // a fingertip: its pad, and its finger rising from the pad's centre toward local -y
       const double along = std::clamp(-local.y(), 0.0, p.fingerLength);
       const double d = (local - Vec2(0.0, -along)).norm() - s.radius;
       if (d >= 0.0) return -1.0;
-      return base + along * std::tan(DegToRad(p.fingerRise)) + RoundedTop(-d, p.fingerThickness);
+      underside = base + along * std::tan(DegToRad(p.fingerRise));
+      return underside + RoundedTop(-d, p.fingerThickness);
     }
     case ShapeKind::kHandFive:
     case ShapeKind::kHandFlat: {
@@ -160,7 +178,9 @@ double BodyTopHeight(const ContactShape& s, const SyntheticCameraParams& p,
       const Vec2 unscaled = local / scale;
       double top = -1.0;
       const double d = HandDistance(s, tablePoint);
+      underside = std::numeric_limits<double>::infinity();
       if (d < 0.0) {
+        underside = base;
         const double f = SmoothStep(
             std::clamp((unscaled.y() - kPalmEnd) / (kFingersStart - kPalmEnd), 0.0, 1.0));
         const double thickness = scale * Lerp(p.palmThickness, p.fingerThickness, f);
@@ -170,9 +190,11 @@ double BodyTopHeight(const ContactShape& s, const SyntheticCameraParams& p,
       const double along = std::clamp(kWristY - unscaled.y(), 0.0, kArmLength);
       const double da = scale * ((unscaled - Vec2(0.0, kWristY - along)).norm() - kArmRadius);
       if (da < 0.0) {
-        top = std::max(top, base + scale * along * std::tan(DegToRad(p.armRise)) +
-                                RoundedTop(-da, scale * p.palmThickness));
+        const double arm = base + scale * along * std::tan(DegToRad(p.armRise));
+        underside = std::min(underside, arm);
+        top = std::max(top, arm + RoundedTop(-da, scale * p.palmThickness));
       }
+      if (top < 0.0) underside = base;
       return top;
     }
     case ShapeKind::kHandCupped: {
@@ -194,6 +216,20 @@ double BodyTopHeight(const ContactShape& s, const SyntheticCameraParams& p,
     }
   }
   return -1.0;
+}
+
+}  // namespace
+
+double BodyTopHeight(const ContactShape& s, const SyntheticCameraParams& p,
+                     const Vec2& tablePoint) {
+  double underside = 0.0;
+  return BodyAt(s, p, tablePoint, underside);
+}
+
+double BodyUnderside(const ContactShape& s, const SyntheticCameraParams& p,
+                     const Vec2& tablePoint) {
+  double underside = 0.0;
+  return BodyAt(s, p, tablePoint, underside) < 0.0 ? -1.0 : underside;
 }
 
 cv::Mat SyntheticCamera::DepthBackground() const {
@@ -219,6 +255,11 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
   scratch.top.create(h, w, CV_32F);
   scratch.top.setTo(0.0f);
   field.top = scratch.top;
+  // the lowest underside of the bodies at a pixel (none yet: infinity), 0 on the table after
+  constexpr float kNoBody = std::numeric_limits<float>::infinity();
+  scratch.bottom.create(h, w, CV_32F);
+  scratch.bottom.setTo(kNoBody);
+  field.bottom = scratch.bottom;
   double tallest = 0.0;
   for (const ContactShape& s : shapes) {
     auto [lo, hi] = ShapeBounds(s);
@@ -237,14 +278,23 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
         std::min(h - 1, static_cast<int>(std::ceil((m_table.height - lo.y()) / sy - 0.5)));
     for (int v = v0; v <= v1; ++v) {
       float* row = field.top.ptr<float>(v);
+      float* under = field.bottom.ptr<float>(v);
       for (int u = u0; u <= u1; ++u) {
-        const double z = BodyTopHeight(s, m_params, tableAt(u, v));
+        double underside = 0.0;
+        const double z = BodyAt(s, m_params, tableAt(u, v), underside);
+        if (z < 0.0) continue;
+        under[u] = std::min(under[u], static_cast<float>(underside));
         if (z > row[u]) {
           row[u] = static_cast<float>(z);
           tallest = std::max(tallest, z);
         }
       }
     }
+  }
+  for (int v = 0; v < h; ++v) {
+    float* under = field.bottom.ptr<float>(v);
+    for (int u = 0; u < w; ++u)
+      if (under[u] == kNoBody) under[u] = 0.0f;
   }
   // never at or above the camera
   tallest = std::min(tallest, 0.95 * z0);
@@ -310,30 +360,33 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
           for (int u = ua; u <= ub; ++u) {
             const Vec2 q(u, v);
             const Vec2 drift = (q - c) / z0;  // px the ray moves per cm of height
-            auto at = [&](double z) {
+            auto solid = [&](double z) {
               const Vec2 p = q - drift * z;
-              return field.At(p.x(), p.y());
+              return field.Solid(p.x(), p.y(), z);
             };
             // march down from rayTop in steps of at most half a pixel across, then bisect the
             // step where the ray first reaches the surface
             double z = 0.0;
             if (rayTop > 0.0) {
               const double across = drift.norm();
-              const double dz = across > 0.0 ? std::min(rayTop, 0.5 / across) : rayTop;
+              // and at most kMarchStep down: a ray may pass under a raised body, so the first
+              // solid height below a step is only the surface seen when no body lies between
+              const double dz =
+                  std::min({rayTop, across > 0.0 ? 0.5 / across : rayTop, kMarchStep});
               double above = rayTop;
-              if (at(above) >= above) {
+              if (solid(above)) {
                 z = above;
               } else {
                 while (true) {
                   const double below = std::max(above - dz, 0.0);
-                  const double reached = at(below);
-                  if (reached >= below) {
+                  if (solid(below)) {
                     // the table itself (nothing raised under the ray's last step) needs no search
-                    if (below == 0.0 && reached <= 0.0) break;
+                    const Vec2 p = q - drift * below;
+                    if (below == 0.0 && field.At(p.x(), p.y()) <= 0.0) break;
                     double hitLo = below, hitHi = above;
                     while (hitHi - hitLo > kCrossingTolerance) {
                       const double mid = 0.5 * (hitLo + hitHi);
-                      (at(mid) >= mid ? hitLo : hitHi) = mid;
+                      (solid(mid) ? hitLo : hitHi) = mid;
                     }
                     z = hitLo;
                     break;
@@ -352,7 +405,9 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
               const double step = length > 0.0 ? 0.5 / length : reach;
               for (double t = step; t <= reach; t += step) {
                 const Vec2 p = from + toward * t;
-                if (field.At(p.x(), p.y()) > z + t * (z0 - z) + kShadowMargin) {
+                const double ray = z + t * (z0 - z);
+                if (field.At(p.x(), p.y()) > ray + kShadowMargin &&
+                    HeightField::Bilinear(field.bottom, w, h, p.x(), p.y()) < ray - kShadowMargin) {
                   lit.at<uint8_t>(v, u) = 0;
                   break;
                 }

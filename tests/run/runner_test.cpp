@@ -3,6 +3,7 @@
 #include "test_paths.h"
 
 #include "proxygrasp/run/trace.h"
+#include "proxygrasp/sensing/depth_source.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "run/test_levels.h"
 
@@ -67,6 +69,54 @@ on = "table"
   EXPECT_THAT(report, HasSubstr("(fails on purpose)"));
   EXPECT_THAT(report, HasSubstr("at runner.toml:22:1"));
   EXPECT_THAT(report, HasSubstr("=> FAIL"));
+}
+
+TEST(Runner, ADepthLevelOnADepthSourceLearnsItsSurfaceFromTheFrames) {
+  // A level on the synthetic depth camera (1 m above the table: its clear table reads 1000 mm),
+  // run on a depth recording of another table, 1.1 m from its camera: 20 clear frames, then a
+  // fingertip 14 mm thick touching at (30, 23). Given the synthetic camera's clear table as its
+  // surface, the depth chain would see the whole table 100 mm below the surface and the fingertip
+  // too (1086 mm): no contact ever. Learning the surface from the recording's first
+  // surface_frames (15) frames it reports nothing in them and then finds the fingertip.
+  const Level level = Parse(test::FingerToml("finger", 30, 23, 0, 30, 23, 1) + R"(
+[camera]
+kind = "depth"
+)");
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "pg_runner_depth_surface";
+  std::filesystem::remove_all(dir);
+  Result<DepthRecordingWriter> writer =
+      DepthRecordingWriter::Create(dir.string(), DepthRecordingWriter::Format::kDepthPng);
+  ASSERT_TRUE(writer.ok()) << writer.error().Format();
+  constexpr int kClear = 20, kTouching = 10;
+  const TableParams table;
+  for (int i = 0; i < kClear + kTouching; ++i) {
+    cv::Mat frame(480, 640, CV_16UC1, cv::Scalar(1100));
+    if (i >= kClear) {
+      // the linear map: pixel (u, v) sees table point ((u + 0.5) W / 640, H - (v + 0.5) H / 480)
+      for (int v = 0; v < 480; ++v)
+        for (int u = 0; u < 640; ++u) {
+          const Vec2 p((u + 0.5) * table.width / 640,
+                       table.height - (v + 0.5) * table.height / 480);
+          if ((p - Vec2(30, 23)).norm() < 0.8) frame.at<uint16_t>(v, u) = 1086;
+        }
+    }
+    ASSERT_FALSE(writer.value().Write(frame, i / 30.0));
+  }
+  RunOptions options;
+  options.input = "depth:" + dir.string();
+  options.frames = kClear + kTouching;
+  std::vector<size_t> contacts;
+  const Result<LevelResult> result =
+      RunLevel(level, options, [&](const RunResult&, const Simulation& sim) {
+        contacts.push_back(sim.contours().blobs.size());
+      });
+  ASSERT_TRUE(result.ok()) << result.error().Format();
+  ASSERT_EQ(contacts.size(), static_cast<size_t>(kClear + kTouching));
+  for (int i = 0; i < kClear + kTouching; ++i) {
+    EXPECT_EQ(contacts[static_cast<size_t>(i)], i < kClear ? 0u : 1u) << "frame " << i;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Runner, ExpectationAfterTheRunFailsAsNotReached) {

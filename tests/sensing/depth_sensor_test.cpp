@@ -2,14 +2,19 @@
 
 #include "real_data.h"
 
+#include "proxygrasp/core/units.h"
 #include "proxygrasp/sensing/depth_source.h"
+#include "proxygrasp/sensing/frame_source.h"
 #include "proxygrasp/sensing/sensor.h"
+#include "proxygrasp/sensing/synthetic_camera.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -544,6 +549,345 @@ TEST(RealDepth, StaticScenesGiveNoContactOnceTheirSurfaceIsLearned) {
   EXPECT_EQ(ContactsAfterLearning(oni, 6, &hover), 0);
   EXPECT_EQ(hover, 0);
 }
+
+// ---- issue 43's acceptance: the synthetic depth camera, scripted hands touching and hovering ----
+
+// Camera seeds 1 to 6; under the sanitizers (five to ten times slower) seed 1 alone: the code it
+// runs is the same for every seed.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr int kAcceptLastSeed = 1;
+#else
+constexpr int kAcceptLastSeed = 6;
+#endif
+
+// the depth camera's frame rate (a Kinect v1's), Hz
+constexpr double kKinectFps = 30.0;
+// frames of the clear table the surface is learned from (DepthParams::surfaceFrames), then the
+// frames scored
+constexpr int kClearFrames = 15;
+constexpr int kScoredFrames = 45;
+
+// One scripted contact: a shape and its keyframes (time s, position cm, angle deg, height of its
+// underside above the table cm), linear between them; present from the first keyframe to the last.
+struct Key {
+  double t, x, y, angle, height;
+};
+struct Scripted {
+  ContactShape shape;
+  std::vector<Key> keys;
+};
+
+ContactShape Tip(double radius) {
+  ContactShape s;
+  s.kind = ShapeKind::kCircle;
+  s.radius = radius;
+  return s;
+}
+ContactShape Hand(ShapeKind kind) {
+  ContactShape s;
+  s.kind = kind;
+  return s;
+}
+
+// The script (scored from t0 = 0.5 s, after the clear table, for 1.5 s): fingertips and two hands
+// that touch, hover at 1, 2, 3 and 5 cm, and are lowered and lifted at 10 to 30 cm/s (a finger
+// tapping moves at 10 to 50 cm/s), moving across the table at up to 10 cm/s. A fingertip's finger
+// rises toward local -y (the arm): their angles keep them pointing away from the near edge. No
+// forearm passes over another contact (from above it would hide it).
+std::vector<Scripted> AcceptanceScript() {
+  return {
+      // touching throughout, sliding 10 cm/s
+      {Tip(0.8), {{0.5, 18, 9, 10, 0}, {2.0, 30, 14, 10, 0}}},
+      // hovering 3 cm, sliding
+      {Tip(0.75), {{0.5, 22, 28, -25, 3}, {2.0, 31, 33, -25, 3}}},
+      // hovering 5 cm
+      {Tip(0.8), {{0.5, 56, 8, 20, 5}, {2.0, 51, 13, 20, 5}}},
+      // touching, lifted to 5 cm at 20 cm/s, held, lowered at 20 cm/s, touching
+      {Tip(0.8),
+       {{0.5, 30, 20, 0, 0},
+        {0.8, 31, 20.5, 0, 0},
+        {1.05, 32, 21, 0, 5},
+        {1.3, 33, 21.5, 0, 5},
+        {1.55, 34, 22, 0, 0},
+        {2.0, 36, 22, 0, 0}}},
+      // at 1 cm, 2 cm, touching, 3 cm: each step at 10 to 30 cm/s
+      {Tip(0.7),
+       {{0.5, 24, 38, -10, 1},
+        {0.8, 25, 38, -10, 1},
+        {0.9, 25.5, 38, -10, 2},
+        {1.1, 26, 38, -10, 2},
+        {1.3, 27, 38, -10, 0},
+        {1.6, 28, 38, -10, 0},
+        {1.7, 28.5, 38, -10, 3},
+        {2.0, 29, 38, -10, 3}}},
+      // a spread hand touching, sliding and turning
+      {Hand(ShapeKind::kHandFive), {{0.5, 45, 27, -20, 0}, {2.0, 49, 29, 0, 0}}},
+      // a flat hand lowered from 3 cm at 10 cm/s, touching, lifted to 2 cm
+      {Hand(ShapeKind::kHandFlat),
+       {{0.5, 10, 31, 0, 3},
+        {0.8, 10, 31, 0, 0},
+        {1.6, 11, 32, 5, 0},
+        {1.8, 11, 32, 5, 2},
+        {2.0, 11, 32, 5, 2}}},
+  };
+}
+
+// the shapes of the script at time t, each at its pose and height
+std::vector<ContactShape> ScriptShapes(const std::vector<Scripted>& script, double t) {
+  std::vector<ContactShape> shapes;
+  for (const Scripted& c : script) {
+    if (t < c.keys.front().t - 1e-9 || t > c.keys.back().t + 1e-9) continue;
+    size_t k = 0;
+    while (k + 2 < c.keys.size() && t > c.keys[k + 1].t) ++k;
+    const Key& a = c.keys[k];
+    const Key& b = c.keys[std::min(k + 1, c.keys.size() - 1)];
+    const double f = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
+    ContactShape s = c.shape;
+    s.pose.pos = Vec2(a.x + f * (b.x - a.x), a.y + f * (b.y - a.y));
+    s.pose.angle = DegToRad(a.angle + f * (b.angle - a.angle));
+    s.height = a.height + f * (b.height - a.height);
+    shapes.push_back(s);
+  }
+  return shapes;
+}
+
+// A fingertip of the truth: a scripted circle, or a hand's finger end (HandFingertips), with the
+// height of its body's underside and the true top of its pad (BodyTopHeight at its centre).
+struct TrueTip {
+  Circle pad;
+  double height = 0.0;  // cm, underside above the table
+  double top = 0.0;     // cm, the pad's top above the table
+  size_t shape = 0;     // index of its shape
+};
+
+std::vector<TrueTip> TrueTips(const std::vector<ContactShape>& shapes,
+                              const SyntheticCameraParams& camera) {
+  std::vector<TrueTip> tips;
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const ContactShape& s = shapes[i];
+    std::vector<Circle> pads = HandFingertips(s);
+    if (s.kind == ShapeKind::kCircle) pads.push_back({s.pose.pos, s.radius});
+    for (const Circle& c : pads)
+      tips.push_back({c, s.height, BodyTopHeight(s, camera, c.centre), i});
+  }
+  return tips;
+}
+
+// A body touches when its underside is on the table, hovers (and must give no contact) from 3 cm
+// up; between, a contact is neither required nor false (the band sees the lower part of a
+// fingertip 1 cm up, and a fingertip passing through while lowered or lifted).
+constexpr double kTouching = 1e-9;
+constexpr double kHovering = 3.0;
+
+// the signed distance from a table point to a contact's outline, cm (positive inside)
+double Inside(const Blob& b, const Vec2& p) {
+  std::vector<cv::Point2f> outline;
+  outline.reserve(static_cast<size_t>(b.contour.cols()));
+  for (Eigen::Index k = 0; k < b.contour.cols(); ++k)
+    outline.emplace_back(static_cast<float>(b.contour(0, k)), static_cast<float>(b.contour(1, k)));
+  return cv::pointPolygonTest(
+      outline, cv::Point2f(static_cast<float>(p.x()), static_cast<float>(p.y())), true);
+}
+
+struct DepthScore {
+  int frames = 0;
+  int tips = 0;         // touching fingertips
+  int found = 0;        // of them, held by a contact (within one pad radius)
+  int contacts = 0;     // contacts
+  int unmatched = 0;    // contacts holding no touching fingertip, not on a touching hand, and not
+                        // on a body between 0 and 3 cm
+  int fromHover = 0;    // contacts on a body hovering 3 cm or more and on nothing touching
+  double heightSq = 0;  // sum of (measured - true)^2 over found fingertips, cm^2
+  int heights = 0;
+  std::string misses;  // where, for messages
+
+  double HeightRms() const { return heights > 0 ? std::sqrt(heightSq / heights) : 0.0; }
+};
+
+// Scores one frame's contacts against the shapes drawn in it.
+void ScoreDepthFrame(const std::vector<ContactShape>& shapes, const SyntheticCameraParams& camera,
+                     const ContourFrame& frame, DepthScore& score) {
+  ++score.frames;
+  const std::vector<TrueTip> tips = TrueTips(shapes, camera);
+  const std::string at = " @" + std::to_string(frame.index);
+  // a contact holds a fingertip when its outline passes within one pad radius of the pad's
+  // centre (the chain maps the image linearly: the pad's top, 1.2 cm up, appears up to 0.46 cm
+  // outward from the table's centre; docs/sensing.md, "Parallax")
+  auto holds = [](const Blob& b, const TrueTip& t) {
+    return Inside(b, t.pad.centre) >= -t.pad.radius;
+  };
+  for (const TrueTip& t : tips) {
+    if (t.height > kTouching) continue;
+    ++score.tips;
+    const Blob* best = nullptr;
+    for (const Blob& b : frame.blobs)
+      if (holds(b, t) && (!best || Inside(b, t.pad.centre) > Inside(*best, t.pad.centre)))
+        best = &b;
+    if (!best) {
+      score.misses += " missed" + at + "(" + std::to_string(t.pad.centre.x()) + "," +
+                      std::to_string(t.pad.centre.y()) + ")";
+      continue;
+    }
+    ++score.found;
+    // Its height: the mean of the heights of the contact's points within two pad radii of the
+    // pad's centre (the contact of a touching fingertip is its pad and the finger rising from it,
+    // of a hand all of its fingers: the pad's own points are the ones that measure it), against
+    // the pad's top (TrueTip::top: finger_thickness, 1.2 cm, for a touching fingertip). What a
+    // camera above sees of a touching fingertip is its top, and the chain's height at a contour
+    // point is the median of the region's heights within height_radius (0.5 cm) of it: at the
+    // rim the region's pixels run from the band's lower edge (6.7 mm) over the quarter round
+    // (0.93, 1.05, 1.12, 1.17 cm at 0.1 to 0.4 cm in) onto the flat 1.2 cm top, whose median is
+    // 1 to 1.5 mm under the top; the finger rising behind the pad (4.7 mm per cm) lifts the
+    // points toward the arm as much; the noise of a 20 to 80 pixel median is 0.3 to 0.4 mm.
+    // The acceptance's bound is 5 mm rms (a measured 3.4 to 3.5 mm).
+    double sum = 0.0;
+    int n = 0;
+    for (Eigen::Index k = 0; k < best->contour.cols(); ++k) {
+      if ((Vec2(best->contour.col(k)) - t.pad.centre).norm() > 2.0 * t.pad.radius) continue;
+      sum += best->heights[static_cast<size_t>(k)];
+      ++n;
+    }
+    if (n == 0) continue;
+    const double e = sum / n - t.top;
+    score.heightSq += e * e;
+    ++score.heights;
+  }
+  for (const Blob& b : frame.blobs) {
+    ++score.contacts;
+    bool touching = false, between = false, hovering = false;
+    for (const TrueTip& t : tips) {
+      if (!holds(b, t)) continue;
+      (t.height <= kTouching ? touching : t.height < kHovering ? between : hovering) = true;
+    }
+    // on a touching body: the centroid within its outline (what touches: a fingertip's pad, a
+    // hand) grown by a pad radius (0.8 cm); on a raised one: anywhere the depth camera draws it
+    // (BodyTopHeight: its finger or forearm too)
+    for (const ContactShape& s : shapes) {
+      if (s.height <= kTouching) {
+        touching = touching || ShapeDistance(s, b.centroid) <= 0.8;
+      } else if (ShapeDistance(s, b.centroid) <= 0.8 ||
+                 BodyTopHeight(s, camera, b.centroid) >= 0.0) {
+        (s.height < kHovering ? between : hovering) = true;
+      }
+    }
+    if (touching || between) continue;
+    ++score.unmatched;
+    if (hovering) ++score.fromHover;
+    score.misses += std::string(hovering ? " hover" : " extra") + at + "(" +
+                    std::to_string(b.centroid.x()) + "," + std::to_string(b.centroid.y()) + ")";
+  }
+}
+
+// the frame at index i of the acceptance run: the clear table, then the script
+double AcceptTime(int64_t i) {
+  return static_cast<double>(i) / kKinectFps;
+}
+
+// One seed's run: the synthetic camera's frames through a depth sensor, scored, and written out
+// as `depth:` and `fakenect:` recordings under `dir`.
+DepthScore ScoreSynthetic(int seed, const std::string& dir) {
+  const TableParams table;
+  SyntheticCameraParams params;
+  params.kind = CameraKind::kDepth;
+  params.seed = static_cast<uint64_t>(seed);
+  SyntheticCamera camera(params, table);
+  DepthSensor sensor;
+  EXPECT_FALSE(sensor.Configure(DepthParams(), SensingParams(), table,
+                                cv::Size(params.width, params.height)));
+  Result<DepthRecordingWriter> png =
+      DepthRecordingWriter::Create(dir + "/depth", DepthRecordingWriter::Format::kDepthPng);
+  Result<DepthRecordingWriter> fakenect =
+      DepthRecordingWriter::Create(dir + "/fakenect", DepthRecordingWriter::Format::kFakenect);
+  EXPECT_TRUE(png.ok() && fakenect.ok());
+  const std::vector<Scripted> script = AcceptanceScript();
+  DepthScore score;
+  for (int64_t i = 0; i < kClearFrames + kScoredFrames; ++i) {
+    const std::vector<ContactShape> shapes = ScriptShapes(script, AcceptTime(i));
+    const cv::Mat frame = camera.Render(shapes);
+    if (png.ok()) {
+      EXPECT_FALSE(png.value().Write(frame, AcceptTime(i)));
+    }
+    if (fakenect.ok()) {
+      EXPECT_FALSE(fakenect.value().Write(frame, AcceptTime(i)));
+    }
+    Result<ContourFrame> out = sensor.Step(frame, i, AcceptTime(i));
+    EXPECT_TRUE(out.ok()) << out.error().Format();
+    if (out.ok() && i >= kClearFrames) ScoreDepthFrame(shapes, params, out.value(), score);
+  }
+  return score;
+}
+
+// The same frames read back through a depth source (`depth:DIR`, `fakenect:DIR`), scored.
+DepthScore ScoreRecording(int seed, const std::string& spec) {
+  const TableParams table;
+  SyntheticCameraParams params;
+  params.kind = CameraKind::kDepth;
+  params.seed = static_cast<uint64_t>(seed);
+  Result<std::unique_ptr<FrameSource>> source = OpenFrameSource(spec);
+  EXPECT_TRUE(source.ok()) << source.error().Format();
+  DepthScore score;
+  if (!source.ok()) return score;
+  DepthSensor sensor;
+  EXPECT_FALSE(sensor.Configure(DepthParams(), SensingParams(), table,
+                                cv::Size(params.width, params.height)));
+  const std::vector<Scripted> script = AcceptanceScript();
+  cv::Mat frame;
+  int64_t i = 0;
+  for (; source.value()->Read(frame) == FrameStatus::kOk; ++i) {
+    Result<ContourFrame> out = sensor.Step(frame, i, AcceptTime(i));
+    EXPECT_TRUE(out.ok()) << out.error().Format();
+    if (out.ok() && i >= kClearFrames)
+      ScoreDepthFrame(ScriptShapes(script, AcceptTime(i)), params, out.value(), score);
+  }
+  EXPECT_EQ(i, kClearFrames + kScoredFrames) << spec;
+  return score;
+}
+
+// Issue 43's acceptance on the synthetic depth camera (default noise): at least 97% of touching
+// fingertips found, at most 1 unmatched contact per 20 frames (not met yet, below), no contact
+// from a fingertip hovering 3 cm or more, fingertip height within 5 mm rms; the same read back
+// through depth:DIR and fakenect:DIR. One test per camera seed; each prints its figures per source
+// (docs/sensing.md, "Depth cameras").
+class DepthAcceptance : public ::testing::TestWithParam<int> {};
+
+TEST_P(DepthAcceptance, ScriptedHandsTouchingAndHovering) {
+  const int seed = GetParam();
+  const std::filesystem::path root =
+      std::filesystem::temp_directory_path() / ("pg_depth_acceptance_seed" + std::to_string(seed));
+  std::filesystem::remove_all(root);
+  const char* kSources[] = {"synthetic", "depth", "fakenect"};
+  const std::string dir = root.string();
+  const DepthScore scores[3] = {ScoreSynthetic(seed, dir),
+                                ScoreRecording(seed, "depth:" + dir + "/depth"),
+                                ScoreRecording(seed, "fakenect:" + dir + "/fakenect")};
+  for (int k = 0; k < 3; ++k) {
+    const DepthScore& s = scores[k];
+    std::printf(
+        "seed %d %-9s %2d frames: %3d of %3d touching fingertips found, %2d of %3d contacts "
+        "unmatched, %d from hovering >= 3 cm, height rms %.2f mm over %d\n",
+        seed, kSources[k], s.frames, s.found, s.tips, s.unmatched, s.contacts, s.fromHover,
+        10.0 * s.HeightRms(), s.heights);
+    EXPECT_EQ(s.frames, kScoredFrames) << kSources[k];
+    EXPECT_GE(s.found * 100, 97 * s.tips) << kSources[k] << s.misses;
+    // Not met yet, so not asserted (the figure is printed): at most 1 unmatched contact per 20
+    // frames. Measured 3 to 11 in 45 frames on seeds 1 to 6, nearly all on the side of a
+    // forearm 2 to 4 cm from a touching hand's wrist, whose underside rises through the touch
+    // band there (docs/sensing.md, "Depth cameras": not done).
+    EXPECT_EQ(s.fromHover, 0) << kSources[k] << s.misses;
+    EXPECT_LT(s.HeightRms(), 0.5) << kSources[k];
+  }
+  // the recordings give the sensor the very frames the camera gave it (PNGs keep the mm, and
+  // every reading lies on a disparity step, which fakenect keeps): the same figures
+  for (int k = 1; k < 3; ++k) {
+    EXPECT_EQ(scores[k].found, scores[0].found) << kSources[k];
+    EXPECT_EQ(scores[k].unmatched, scores[0].unmatched) << kSources[k];
+    EXPECT_EQ(scores[k].contacts, scores[0].contacts) << kSources[k];
+    EXPECT_NEAR(scores[k].HeightRms(), scores[0].HeightRms(), 1e-9) << kSources[k];
+  }
+  std::filesystem::remove_all(root);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, DepthAcceptance, ::testing::Range(1, kAcceptLastSeed + 1));
 
 }  // namespace
 }  // namespace pg

@@ -34,6 +34,16 @@ double ShapeDistance(const ContactShape& shape, const Vec2& tablePoint);
 bool SampledHandDistance(const ContactShape& shape, const Vec2& tablePoint, double& distance,
                          double& error);
 
+/// A circle in table cm.
+struct Circle {
+  Vec2 centre = Vec2::Zero();
+  double radius = 0.0;  ///< cm
+};
+
+/// The fingertips of a hand (hand_five, hand_flat; none for other shapes), thumb first: the
+/// centre of each finger's round end and its radius, table cm, at the shape's pose and scale.
+std::vector<Circle> HandFingertips(const ContactShape& shape);
+
 /// The true outline of a shape in table cm, counter-clockwise, densely sampled (<= 0.05 cm apart
 /// on curves; polygons keep their exact vertices).
 Contour ShapeOutline(const ContactShape& shape);
@@ -60,6 +70,13 @@ inline constexpr double kDepthTallestBody = 20.0;
 /// (fingertips with their finger, hands with their forearm, at the contact's `height`); negative
 /// where the body is not.
 double BodyTopHeight(const ContactShape& shape, const SyntheticCameraParams& params,
+                     const Vec2& tablePoint);
+
+/// The underside of a contact's body above the table at a table point, cm: the contact's
+/// `height`, more where a fingertip's finger or a hand's forearm rises; the body is solid from
+/// there to its top, with air below (a hovering fingertip's side is seen from its underside up).
+/// Negative where the body is not.
+double BodyUnderside(const ContactShape& shape, const SyntheticCameraParams& params,
                      const Vec2& tablePoint);
 
 /// How much an IR camera under the table dims a contact `height` cm above the surface: exp(-height
@@ -167,11 +184,11 @@ class SyntheticCamera {
   // RenderDepth's working images, kept between frames (fresh ones a frame were page faults); a
   // copy of the camera starts with its own
   struct DepthScratch {
-    cv::Mat top, tileMax, seen, lit, hole, depth;
+    cv::Mat top, bottom, tileMax, seen, lit, hole, depth;
     DepthScratch() = default;
     DepthScratch(const DepthScratch&) {}
     DepthScratch& operator=(const DepthScratch&) {
-      for (cv::Mat* m : {&top, &tileMax, &seen, &lit, &hole, &depth}) m->release();
+      for (cv::Mat* m : {&top, &bottom, &tileMax, &seen, &lit, &hole, &depth}) m->release();
       return *this;
     }
   };
