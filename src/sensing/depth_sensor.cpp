@@ -1,5 +1,6 @@
 #include "proxygrasp/sensing/depth_sensor.h"
 
+#include "proxygrasp/sensing/depth_plane.h"
 #include "proxygrasp/sensing/sensor.h"
 
 #include <opencv2/imgproc.hpp>
@@ -92,6 +93,10 @@ MaybeError DepthSensor::Configure(const DepthParams& depth, const SensingParams&
   next.m_tableToCamera = next.m_model.cameraToTable.inv();
   next.m_size = imageSize;
   next.m_kernel = OpeningKernel(sensing.morphology);
+  // a calibration with the table's plane (calibrate with a depth source): heights along its
+  // normal, not along the camera's axis (docs/sensing.md, "The table's plane")
+  if (const std::optional<TablePlane> plane = PlaneOf(calibration))
+    PlaneHeightScale(IntrinsicsOf(calibration), *plane, imageSize, next.m_heightScale);
   next.m_configured = true;
   *this = std::move(next);
   return std::nullopt;
@@ -127,8 +132,11 @@ void DepthSensor::UpdateBand() {
     const float* n = m_noise.ptr<float>(y);
     const float* s = m_surface.ptr<float>(y);
     float* t = m_threshold.ptr<float>(y);
+    // with the table's plane, touch_low is a height along its normal: that over the pixel's scale
+    // along the axis (the noise is along the axis as it is)
+    const float* scale = m_heightScale.empty() ? nullptr : m_heightScale.ptr<float>(y);
     for (int x = 0; x < m_noise.cols; ++x)
-      t[x] = std::max(low, k * std::max(n[x], floor * s[x] * s[x]));
+      t[x] = std::max(scale ? low / scale[x] : low, k * std::max(n[x], floor * s[x] * s[x]));
   }
 }
 
@@ -488,7 +496,12 @@ void DepthSensor::Extract(const cv::Mat& mask, const std::vector<cv::Rect>* area
           if (in[x] && (x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) m_values.push_back(h[x]);
         }
       }
-      blob.heights[static_cast<size_t>(k)] = 0.1 * Median(m_values);
+      // along the table plane's normal when the calibration has one
+      const double scale = m_heightScale.empty()
+                               ? 1.0
+                               : m_heightScale.at<float>(std::clamp(cy, 0, m_size.height - 1),
+                                                         std::clamp(cx, 0, m_size.width - 1));
+      blob.heights[static_cast<size_t>(k)] = 0.1 * scale * Median(m_values);
     }
     blobs.push_back(std::move(blob));
   }

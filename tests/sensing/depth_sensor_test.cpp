@@ -3,6 +3,8 @@
 #include "real_data.h"
 
 #include "proxygrasp/core/units.h"
+#include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/depth_plane.h"
 #include "proxygrasp/sensing/depth_source.h"
 #include "proxygrasp/sensing/frame_source.h"
 #include "proxygrasp/sensing/sensor.h"
@@ -197,6 +199,56 @@ TEST(DepthSensor, FingertipTouchingIsFoundWithItsContourAndHeight) {
   // 1 mm, about three times that.
   EXPECT_LT(std::sqrt(tipSq / points), 0.1);
   EXPECT_LT(std::sqrt(flatSq / flatPoints), 0.1);
+}
+
+TEST(DepthSensor, WithTheTablesPlaneHeightsAreAlongItsNormal) {
+  // A calibration that holds the table's plane (calibrate with a depth source) makes heights
+  // along the plane's normal: an axial step dz at pixel (u, v) is dz x PlaneHeightScale there.
+  // The plane here is tilted 20 degrees about x (normal (0, sin 20, -cos 20)); the frames are the
+  // scene's (the sensor uses the plane for the scale only; its surface is learned from them). The
+  // same frames (the scene's noise is seeded) through a sensor without the plane and one with
+  // it: a disk under the image's centre, its top 14 mm nearer on the axis, reads the same
+  // regions, and every height with the plane is the one without it times the scale, cos 20 =
+  // 0.940 at the centre. Tolerance: the scale changes by n_y / f_y = 0.06% a pixel along v, so by
+  // 0.5% over the disk's 16 px: the ratio of the means within 0.005.
+  const double tilt = 20.0 * kPi / 180.0;
+  Calibration calibration = LinearCalibration({640, 480}, TableParams());
+  const DepthIntrinsics k = DepthIntrinsics::KinectV1({640, 480});
+  calibration.cameraMatrix =
+      (cv::Mat_<double>(3, 3) << k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0);
+  calibration.depthPlane = (cv::Mat_<double>(1, 4) << 0.0, std::sin(tilt), -std::cos(tilt), 1000.0);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "pg_depth_plane_heights.yaml").string();
+  ASSERT_FALSE(SaveCalibration(path, calibration));
+  // under the image's centre: table point (30.5, 23)
+  const Shape tip{Vec2(30.5, 23.0), Vec2(30.5, 23.0), 0.8, 14.0};
+  const auto meanHeights = [&](const std::string& calibrationPath) {
+    Scene scene;
+    SensingParams sensing;
+    sensing.calibration = calibrationPath;
+    DepthSensor sensor;
+    const MaybeError s = sensor.Configure(DepthParams(), sensing, scene.table(), scene.size());
+    EXPECT_FALSE(s) << s->Format();
+    int64_t index = 0;
+    StepFrames(sensor, scene, {}, index, DepthParams().surfaceFrames);
+    std::vector<double> means;
+    StepFrames(sensor, scene, {tip}, index, 10, [&](const ContourFrame& f) {
+      ASSERT_EQ(f.blobs.size(), 1u);
+      double sum = 0.0;
+      for (const double h : f.blobs[0].heights) sum += h;
+      means.push_back(sum / static_cast<double>(f.blobs[0].heights.size()));
+    });
+    return means;
+  };
+  const std::vector<double> along = meanHeights("");
+  const std::vector<double> normal = meanHeights(path);
+  ASSERT_EQ(along.size(), 10u);
+  ASSERT_EQ(normal.size(), 10u);
+  for (size_t i = 0; i < along.size(); ++i) {
+    EXPECT_NEAR(along[i], 1.4, 0.1) << i;  // the top, less the rim's lower medians
+    EXPECT_NEAR(normal[i] / along[i], std::cos(tilt), 0.005) << i;
+  }
+  std::filesystem::remove(path);
 }
 
 TEST(DepthSensor, FingertipHoveringThreeCentimetresOrMoreIsHoverNotTouch) {

@@ -108,6 +108,9 @@ class DepthSensor {
   bool m_seeded = false;
   cv::Mat m_surface, m_noise;  // CV_32F
   cv::Mat m_threshold;         // CV_32F: the band's lower edge per pixel, mm
+  // CV_32F: with the calibration's table plane, the height along its normal of an axial mm
+  // (PlaneHeightScale); empty without one (heights along the camera's axis)
+  cv::Mat m_heightScale;
   double m_lastTime = 0.0;
   bool m_haveTime = false;
   static constexpr int kLearnBands = 8;
