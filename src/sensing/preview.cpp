@@ -129,6 +129,21 @@ cv::Vec3b HeightColour(float heightMm, float bandLowMm, const DepthParams& p) {
   return dc::kAboveCeiling;
 }
 
+namespace {
+
+// Tiles of one size laid out `columns` to a row, left to right and top to bottom.
+cv::Mat Grid(const std::vector<cv::Mat>& tiles, cv::Size size, int columns) {
+  const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
+  cv::Mat out = cv::Mat::zeros(size.height * rows, size.width * columns, CV_8UC3);
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    const int col = static_cast<int>(i) % columns, row = static_cast<int>(i) / columns;
+    tiles[i].copyTo(out(cv::Rect(col * size.width, row * size.height, size.width, size.height)));
+  }
+  return out;
+}
+
+}  // namespace
+
 cv::Mat DepthPreview(const DepthSensor& sensor, const std::vector<PreviewContact>& contacts,
                      const std::vector<Blob>& hover, int columns, double scale) {
   const cv::Mat& frame = sensor.StageImage(DepthStage::kDepth);
@@ -248,13 +263,7 @@ cv::Mat DepthPreview(const DepthSensor& sensor, const std::vector<PreviewContact
     tiles.push_back(tile);
   }
 
-  const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
-  cv::Mat out = cv::Mat::zeros(size.height * rows, size.width * columns, CV_8UC3);
-  for (size_t i = 0; i < tiles.size(); ++i) {
-    const int col = static_cast<int>(i) % columns, row = static_cast<int>(i) / columns;
-    tiles[i].copyTo(out(cv::Rect(col * size.width, row * size.height, size.width, size.height)));
-  }
-  return out;
+  return Grid(tiles, size, columns);
 }
 
 cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& contacts,
@@ -303,13 +312,7 @@ cv::Mat SensingPreview(const Sensor& sensor, const std::vector<PreviewContact>& 
     }
     tiles.push_back(Tile(sensor.StageImage(stage), size, label, stretch));
   }
-  const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
-  cv::Mat out = cv::Mat::zeros(size.height * rows, size.width * columns, CV_8UC3);
-  for (size_t i = 0; i < tiles.size(); ++i) {
-    const int col = static_cast<int>(i) % columns, row = static_cast<int>(i) / columns;
-    tiles[i].copyTo(out(cv::Rect(col * size.width, row * size.height, size.width, size.height)));
-  }
-  return out;
+  return Grid(tiles, size, columns);
 }
 
 }  // namespace pg
