@@ -25,17 +25,6 @@ bool StartsWith(const std::string& s, const std::string& prefix) {
   return s.rfind(prefix, 0) == 0;
 }
 
-// raw disparity -> mm, one entry per 11-bit value (a table: the tangent per pixel is slow)
-const std::array<uint16_t, 2048>& RawToMmTable() {
-  static const std::array<uint16_t, 2048> table = [] {
-    std::array<uint16_t, 2048> t{};
-    for (int raw = 0; raw < 2048; ++raw)
-      t[raw] = static_cast<uint16_t>(std::lround(KinectRawToMm(raw)));
-    return t;
-  }();
-  return table;
-}
-
 // the depth folders' conversion: 16-bit single-channel images are depth in mm, as they are
 std::string DepthImage(const cv::Mat& image, cv::Mat& frame) {
   if (image.empty()) return "cannot read the image (corrupt or not an image)";
@@ -170,9 +159,19 @@ int KinectMmToRaw(double mm) {
   return KinectRawToMm(r) > 0.0 ? r : kKinectNoReading;
 }
 
+const std::array<uint16_t, 2048>& KinectRawToMmTable() {
+  static const std::array<uint16_t, 2048> table = [] {
+    std::array<uint16_t, 2048> t{};
+    for (int raw = 0; raw < 2048; ++raw)
+      t[raw] = static_cast<uint16_t>(std::lround(KinectRawToMm(raw)));
+    return t;
+  }();
+  return table;
+}
+
 void KinectRawToMmImage(const cv::Mat& raw, cv::Mat& mm) {
   CV_Assert(raw.type() == CV_16UC1);
-  const std::array<uint16_t, 2048>& table = RawToMmTable();
+  const std::array<uint16_t, 2048>& table = KinectRawToMmTable();
   mm.create(raw.size(), CV_16UC1);
   for (int y = 0; y < raw.rows; ++y) {
     const uint16_t* in = raw.ptr<uint16_t>(y);

@@ -71,23 +71,12 @@ double HandDistance(const ContactShape& s, const Vec2& tablePoint) {
   return 1.0;
 }
 
-// raw disparity -> mm as the depth sources convert it (rounded to whole mm), 0 = no reading
-const std::array<uint16_t, 2048>& RawToMm() {
-  static const std::array<uint16_t, 2048> table = [] {
-    std::array<uint16_t, 2048> t{};
-    for (int raw = 0; raw < 2048; ++raw)
-      t[raw] = static_cast<uint16_t>(std::lround(KinectRawToMm(raw)));
-    return t;
-  }();
-  return table;
-}
-
 // a depth in mm as the camera reports it without noise: on a disparity step or rounded to mm
 uint16_t Report(double mm, bool steps) {
   if (!(mm > 0.0)) return 0;
   if (steps) {
     const long raw = std::lround(KinectDisparity(mm));
-    return raw >= 0 && raw < kKinectNoReading ? RawToMm()[raw] : 0;
+    return raw >= 0 && raw < kKinectNoReading ? KinectRawToMmTable()[raw] : 0;
   }
   return static_cast<uint16_t>(std::clamp<long>(std::lround(mm), 0, 65535));
 }
@@ -452,7 +441,7 @@ cv::Mat SyntheticCamera::RenderDepth(std::span<const ContactShape> shapes) {
   const bool steps = m_params.disparitySteps;
   const double tableMm = 10.0 * z0;
   const double tableDisparity = KinectDisparity(tableMm);
-  const std::array<uint16_t, 2048>& rawToMm = RawToMm();
+  const std::array<uint16_t, 2048>& rawToMm = KinectRawToMmTable();
   const uint16_t tableReport = Report(tableMm, steps);
   for (int v = 0; v < h; ++v) {
     uint16_t* o = out.ptr<uint16_t>(v);

@@ -11,6 +11,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -40,6 +41,10 @@ int KinectMmToRaw(double mm);
 /// depth one raw step spans there, mm (dz/draw: 2.89 mm at 1 m, growing with the distance squared).
 double KinectDisparity(double mm);
 double KinectStepMm(double mm);
+
+/// KinectRawToMm rounded to whole mm for every 11-bit raw value, as the depth sources deliver it
+/// (0 = no reading): a table, since the tangent per pixel is slow.
+const std::array<uint16_t, 2048>& KinectRawToMmTable();
 
 /// Converts a raw disparity image (CV_16UC1, 11-bit) to depth in mm (CV_16UC1, 0 = no reading).
 void KinectRawToMmImage(const cv::Mat& raw, cv::Mat& mm);
