@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -72,11 +73,10 @@ void AppendNumber(std::string& out, double v) {
 
 // a depth camera's heights of a blob: the mean and one per contour point, cm
 void AppendHeights(std::string& out, const Blob& b) {
-  if (b.heights.empty()) return;
-  double sum = 0.0;
-  for (double h : b.heights) sum += h;
+  const std::optional<double> mean = b.MeanHeight();
+  if (!mean) return;
   out += ", \"height\": ";
-  AppendNumber(out, sum / static_cast<double>(b.heights.size()));
+  AppendNumber(out, *mean);
   out += ", \"heights\": [";
   for (size_t k = 0; k < b.heights.size(); ++k) {
     if (k) out += ", ";

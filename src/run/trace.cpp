@@ -66,14 +66,6 @@ std::string ObjectRows(const Simulation& sim) {
 
 namespace {
 
-// a blob's mean height over its outline, cm; none without heights (the IR camera)
-std::optional<double> MeanHeight(const Blob& b) {
-  if (b.heights.empty()) return std::nullopt;
-  double sum = 0.0;
-  for (double h : b.heights) sum += h;
-  return sum / static_cast<double>(b.heights.size());
-}
-
 // the mean of the blobs' mean heights as a CSV field: empty when none has heights
 template <typename Range, typename BlobOf>
 std::string MeanHeightField(const Range& items, BlobOf blobOf) {
@@ -82,7 +74,7 @@ std::string MeanHeightField(const Range& items, BlobOf blobOf) {
   for (const auto& item : items) {
     const Blob* b = blobOf(item);
     if (!b) continue;
-    if (const std::optional<double> h = MeanHeight(*b)) {
+    if (const std::optional<double> h = b->MeanHeight()) {
       sum += *h;
       ++n;
     }
@@ -114,7 +106,7 @@ std::string ContactRows(const Simulation& sim) {
   const std::string t = FormatFixed(sim.Time(), 6);
   std::string rows;
   for (const Contact& c : sim.contacts().contacts) {
-    const std::optional<double> h = MeanHeight(c.blob);
+    const std::optional<double> h = c.blob.MeanHeight();
     rows += frame + "," + t + "," + std::to_string(c.id) + "," +
             kContactStateNames[static_cast<int>(c.state)] + "," +
             FormatFixed(c.blob.centroid.x(), 4) + "," + FormatFixed(c.blob.centroid.y(), 4) + "," +

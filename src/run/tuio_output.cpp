@@ -25,11 +25,7 @@ std::vector<TuioOutContact> ToTuioOutContacts(const ContactSet& contacts) {
     for (Eigen::Index k = 0; k < c.blob.contour.cols(); ++k)
       o.contour.push_back(c.blob.contour.col(k));
     // a depth camera's contact: its mean height over the outline
-    if (!c.blob.heights.empty()) {
-      double sum = 0.0;
-      for (double h : c.blob.heights) sum += h;
-      o.height = sum / static_cast<double>(c.blob.heights.size());
-    }
+    o.height = c.blob.MeanHeight();
   }
   return out;
 }

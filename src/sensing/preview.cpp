@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 namespace pg {
@@ -250,11 +251,10 @@ cv::Mat DepthPreview(const DepthSensor& sensor, const std::vector<PreviewContact
                              static_cast<int>(std::lround(px.y())));
       }
       cv::polylines(tile, outline, true, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
-      if (b.heights.empty()) continue;
-      double sum = 0.0;
-      for (double h : b.heights) sum += h;
+      const std::optional<double> mean = b.MeanHeight();
+      if (!mean) continue;
       char text[32];
-      std::snprintf(text, sizeof text, "%.1f cm", sum / static_cast<double>(b.heights.size()));
+      std::snprintf(text, sizeof text, "%.1f cm", *mean);
       const Vec2 at = scale * sensor.model().TableToCamera(b.centroid);
       cv::putText(tile, text, cv::Point(static_cast<int>(at.x()) + 6, static_cast<int>(at.y())),
                   cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 200, 255), 1, cv::LINE_AA);

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -126,6 +127,15 @@ struct Blob {
   /// Depth cameras: the height measured above the surface at each contour point, cm (one per
   /// column of `contour`); empty for the IR camera.
   std::vector<double> heights;
+
+  /// The mean of `heights`, cm: the contact's height as `sense`, the traces, TUIO and the
+  /// preview give it. Nothing without heights (the IR camera).
+  std::optional<double> MeanHeight() const {
+    if (heights.empty()) return std::nullopt;
+    double sum = 0.0;
+    for (const double h : heights) sum += h;
+    return sum / static_cast<double>(heights.size());
+  }
 };
 
 /// A table-aligned image: pixel (u, v) covers table point origin + (u + 0.5, v + 0.5) * cmPerPixel.
