@@ -9,12 +9,22 @@
 #include <emmintrin.h>
 #endif
 
+#include <climits>
+
 #include <algorithm>
 #include <cmath>
 
 namespace pg {
 
 namespace {
+
+// A strip where the side of a body above the band passes through it lies along that body: one of
+// its two long sides, half its border, is within kSideReach of a hover pixel (the opening trims a
+// pixel off each mask, so a pixel lies between them); a fingertip's pad meets hover only where
+// its finger rises out of the band, a small share of its border. docs/sensing.md, "Touch from
+// depth" (min_width).
+constexpr double kSideShare = 0.4;
+constexpr double kSideReach = 0.2;  // cm
 
 // the least deviation a pixel's noise is taken to have at a reading of z mm is f z^2 (noise_floor
 // at 1 m, growing with distance squared as a triangulating camera's depth resolution does): f
@@ -67,6 +77,10 @@ void Describe(DepthParams& p, ParamVisitor& v) {
   v.Real("hover_min_area", p.hoverMinArea, 0, 10000, "cm^2", "smallest hover region kept");
   v.Real("height_radius", p.heightRadius, 0, 5, "cm",
          "a contour point's height is the median of its region's heights within this distance");
+  v.Real("min_width", p.minWidth, 0, 10, "cm",
+         "a touch region narrower than this everywhere (no disk this wide fits in it) that lies "
+         "along hover is the side or rim of a body above the band, such as a forearm, and is "
+         "dropped (0 keeps every one)");
 }
 
 MaybeError DepthSensor::Configure(const DepthParams& depth, const SensingParams& sensing,
@@ -199,8 +213,9 @@ Result<ContourFrame> DepthSensor::Step(const cv::Mat& depthMm, int64_t index, do
   Classify(depthMm);
   const bool touchAreas = Open(m_touch, m_touchRows, m_touchAreas);
   const bool hoverAreas = Open(m_hover, m_hoverRows, m_hoverAreas);
-  Extract(m_touch, touchAreas ? &m_touchAreas : nullptr, m_sensing.minArea, out.blobs);
-  Extract(m_hover, hoverAreas ? &m_hoverAreas : nullptr, m_depth.hoverMinArea, out.hover);
+  Extract(m_touch, touchAreas ? &m_touchAreas : nullptr, m_sensing.minArea, m_depth.minWidth,
+          out.blobs);
+  Extract(m_hover, hoverAreas ? &m_hoverAreas : nullptr, m_depth.hoverMinArea, 0.0, out.hover);
   Learn(depthMm, dt);
   return out;
 }
@@ -427,8 +442,42 @@ void DepthSensor::Learn(const cv::Mat& depthMm, double dt) {
   }
 }
 
+double DepthSensor::InscribedWidth(const std::vector<cv::Point>& pixels) {
+  // the region's outline filled (the holes that noise punches in a fingertip's pad do not narrow
+  // it; a ring is as wide as what it encloses) on a border of 0, and each pixel's distance to the
+  // nearest 0: a pixel at distance d is the centre of a disk 2d - 1 pixels across (one pixel: 1;
+  // the middle of a line three wide: 3)
+  const cv::Rect box = cv::boundingRect(pixels);
+  const cv::Rect framed(box.x - 1, box.y - 1, box.width + 2, box.height + 2);
+  m_region.create(framed.size(), CV_8UC1);
+  m_region.setTo(0);
+  const std::vector<std::vector<cv::Point>> outline{pixels};
+  cv::drawContours(m_region, outline, 0, cv::Scalar(255), cv::FILLED, cv::LINE_8, cv::noArray(),
+                   INT_MAX, -framed.tl());
+  cv::distanceTransform(m_region, m_distance, cv::DIST_L2, cv::DIST_MASK_5);
+  double widest = 0.0;
+  cv::minMaxLoc(m_distance, nullptr, &widest);
+  return std::max(0.0, 2.0 * widest - 1.0);
+}
+
+double DepthSensor::HoverShare(const std::vector<cv::Point>& pixels, int reach) const {
+  // each border pixel: is a hover pixel within `reach` px (a square)
+  int near = 0;
+  for (const cv::Point& p : pixels) {
+    const int x0 = std::max(0, p.x - reach), x1 = std::min(m_size.width - 1, p.x + reach);
+    const int y0 = std::max(0, p.y - reach), y1 = std::min(m_size.height - 1, p.y + reach);
+    bool found = false;
+    for (int y = y0; y <= y1 && !found; ++y) {
+      const uint8_t* h = m_hover.ptr<uint8_t>(y);
+      for (int x = x0; x <= x1 && !found; ++x) found = h[x] != 0;
+    }
+    near += found ? 1 : 0;
+  }
+  return pixels.empty() ? 0.0 : static_cast<double>(near) / static_cast<double>(pixels.size());
+}
+
 void DepthSensor::Extract(const cv::Mat& mask, const std::vector<cv::Rect>* areas, double minArea,
-                          std::vector<Blob>& blobs) {
+                          double minWidth, std::vector<Blob>& blobs) {
   blobs.clear();
   if (!areas) {
     cv::findContours(mask, m_contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
@@ -450,6 +499,14 @@ void DepthSensor::Extract(const cv::Mat& mask, const std::vector<cv::Rect>* area
     const double pixelArea =
         std::abs(cv::contourArea(pixels)) + 0.5 * cv::arcLength(pixels, true) + 1.0;
     if (pixelArea * cmpp * cmpp < 0.5 * minArea) continue;
+    // the side of a forearm or the rim of a palm above the band: a strip, nowhere as wide as
+    // the narrowest touch, lying along the body (docs/sensing.md, "Touch from depth")
+    // (the share first: it is the cheaper, and a fingertip away from hover needs no more)
+    if (minWidth > 0.0 &&
+        HoverShare(pixels, std::max(1, static_cast<int>(std::lround(kSideReach / cmpp)))) >=
+            kSideShare &&
+        InscribedWidth(pixels) * cmpp < minWidth)
+      continue;
 
     Contour dense(2, static_cast<Eigen::Index>(pixels.size()));
     for (size_t k = 0; k < pixels.size(); ++k) {

@@ -38,6 +38,10 @@ constexpr double kFingersStart = 5.0;
 constexpr double kWristY = -4.0;
 constexpr double kArmRadius = 3.0;
 constexpr double kArmLength = 40.0;
+// the palm's half width, and the distance beside it over which the hand thins to a thumb's
+// thickness, unscaled cm
+constexpr double kPalmHalfWidth = 4.0;
+constexpr double kThumbBlend = 1.5;
 // a cupped hand's edge (a band 1.5 cm wide) stands this tall at its middle, unscaled cm
 constexpr double kCupHeight = 6.0;
 constexpr double kCupHalfWidth = 0.75;
@@ -172,7 +176,13 @@ double BodyAt(const ContactShape& s, const SyntheticCameraParams& p, const Vec2&
         underside = base;
         const double f = SmoothStep(
             std::clamp((unscaled.y() - kPalmEnd) / (kFingersStart - kPalmEnd), 0.0, 1.0));
-        const double thickness = scale * Lerp(p.palmThickness, p.fingerThickness, f);
+        // beside the palm (the thumb) the hand thins to a thumb's thickness, halfway between a
+        // palm's and a finger's (an adult thumb's tip on its side: 1.7 to 2 cm)
+        const double g = SmoothStep(
+            std::clamp((std::abs(unscaled.x()) - kPalmHalfWidth) / kThumbBlend, 0.0, 1.0));
+        const double thumb = 0.5 * (p.palmThickness + p.fingerThickness);
+        const double thickness = scale * std::min(Lerp(p.palmThickness, p.fingerThickness, f),
+                                                  Lerp(p.palmThickness, thumb, g));
         top = base + RoundedTop(-d, thickness);
       }
       // the forearm: palm thick, rising from the wrist

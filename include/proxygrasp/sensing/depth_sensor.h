@@ -33,6 +33,8 @@ struct DepthParams {
   double noiseFloor = 1.5;        ///< least noise deviation at 1 m, mm (grows with distance^2)
   double hoverMinArea = 1.0;      ///< smallest hover region kept, cm^2
   double heightRadius = 0.5;      ///< a contour point's height: the median within this, cm
+  double minWidth = 0.6;          ///< a touch region narrower than this everywhere and lying
+                                  ///< along hover is the side of a body above the band, cm
 };
 
 void Describe(DepthParams& p, ParamVisitor& v);
@@ -90,9 +92,14 @@ class DepthSensor {
   // the opening; true when only `areas` (rows) of the mask can hold pixels after it
   bool Open(cv::Mat& mask, std::vector<uint8_t>& rows, std::vector<cv::Rect>& areas);
   void Learn(const cv::Mat& depthMm, double dt);
-  // the regions of `mask` (in `areas` only, when given)
+  // the regions of `mask` (in `areas` only, when given), without the strips along the side of
+  // a body above the band: narrower than `minWidth` cm everywhere and lying along hover (0: all)
   void Extract(const cv::Mat& mask, const std::vector<cv::Rect>* areas, double minArea,
-               std::vector<Blob>& blobs);
+               double minWidth, std::vector<Blob>& blobs);
+  // the widest disk within the outer border `pixels` of a region, diameter in px
+  double InscribedWidth(const std::vector<cv::Point>& pixels);
+  // the share of border pixels `pixels` with a hover pixel within `reach` px
+  double HoverShare(const std::vector<cv::Point>& pixels, int reach) const;
 
   DepthParams m_depth;
   SensingParams m_sensing;
@@ -120,7 +127,7 @@ class DepthSensor {
   // stage images, reused
   cv::Mat m_frame;   // CV_16UC1
   cv::Mat m_height;  // CV_32F, mm
-  cv::Mat m_touch, m_hover, m_near, m_scratch, m_eroded;
+  cv::Mat m_touch, m_hover, m_near, m_scratch, m_eroded, m_region, m_distance;
   // per row of the touch and hover masks: 1 where the row holds a pixel; the rows' areas where
   // the opened masks can hold any (empty: the whole image)
   std::vector<uint8_t> m_touchRows, m_hoverRows;
