@@ -43,6 +43,49 @@ std::vector<cv::Point> ToDisplay(const Contour& c, const Pose2& pose, const Disp
   return points;
 }
 
+// Hovering hands as shadows on the table (Hilliges et al., UIST 2009): each region a depth camera
+// sees above the touch band darkens what lies under it, darker and sharper the lower it is, so a
+// user sees where a hand will land before it does. Opacity falls from kShadowNear at the table
+// to kShadowFar at kShadowFade; the penumbra (blur deviation) grows as kShadowSpread times the
+// height, as a broad light's does.
+constexpr double kShadowNear = 0.6;
+constexpr double kShadowFar = 0.1;
+constexpr double kShadowFade = 30.0;  // cm
+constexpr double kShadowSpread = 0.15;
+
+void DrawHoverShadows(const std::vector<Blob>& hover, const DisplayMap& map, cv::Mat& img) {
+  const cv::Rect whole(0, 0, img.cols, img.rows);
+  for (const Blob& b : hover) {
+    if (b.contour.cols() < 3) continue;
+    const double h = std::max(0.0, b.MeanHeight().value_or(kShadowFade));
+    const double opacity = std::clamp(kShadowNear + (kShadowFar - kShadowNear) * h / kShadowFade,
+                                      kShadowFar, kShadowNear);
+    const double sigma = std::max(0.5, kShadowSpread * h * map.PixelsPerCm(b.centroid));
+    std::vector<cv::Point> poly = ToDisplay(b.contour, Pose2{}, map);
+    cv::Rect box = cv::boundingRect(poly);
+    box = cv::Rect(box.x >> kShift, box.y >> kShift, (box.width >> kShift) + 2,
+                   (box.height >> kShift) + 2);
+    const int reach = static_cast<int>(std::ceil(3.0 * sigma));
+    box = cv::Rect(box.x - reach, box.y - reach, box.width + 2 * reach, box.height + 2 * reach) &
+          whole;
+    if (box.empty()) continue;
+    for (cv::Point& q : poly) q -= cv::Point(box.x << kShift, box.y << kShift);
+    cv::Mat mask = cv::Mat::zeros(box.size(), CV_32F);
+    cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(opacity), cv::LINE_AA,
+                 kShift);
+    cv::GaussianBlur(mask, mask, cv::Size(0, 0), sigma);
+    cv::Mat roi = img(box);
+    for (int y = 0; y < roi.rows; ++y) {
+      const float* m = mask.ptr<float>(y);
+      cv::Vec3b* px = roi.ptr<cv::Vec3b>(y);
+      for (int x = 0; x < roi.cols; ++x) {
+        const float keep = 1.0f - m[x];
+        for (int c = 0; c < 3; ++c) px[x][c] = cv::saturate_cast<uchar>(px[x][c] * keep);
+      }
+    }
+  }
+}
+
 Contour RegionOutline(const Region& region) {
   if (region.kind == Region::Kind::kRect) {
     Contour c(2, 4);
@@ -426,6 +469,9 @@ void TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size size
              cv::LINE_AA, kShift);
   }
 
+  // hovering hands (a depth camera) as shadows over the table and the objects
+  DrawHoverShadows(sim.contours().hover, map, img);
+
   // angle goals: a mark at the target angle around the object; every goal's label and progress
   // bar are laid out here and drawn once none overlaps another
   struct GoalLabel {
@@ -514,7 +560,11 @@ void TableView::Draw(const Simulation& sim, const DisplayMap& map, cv::Size size
 
   // contact contours over their particles
   for (const Contact& contact : sim.contacts().contacts) {
-    if (contact.state == ContactState::kLifted || contact.blob.contour.cols() < 2) continue;
+    // a hovering hand shows as its shadow, not as an outline
+    if (contact.state == ContactState::kLifted || contact.blob.contour.cols() < 2 ||
+        contact.blob.hover) {
+      continue;
+    }
     const std::vector<cv::Point> poly = ToDisplay(contact.blob.contour, Pose2{}, map);
     cv::polylines(img, poly, true, c::kContour, 1, cv::LINE_AA, kShift);
   }

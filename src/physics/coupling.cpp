@@ -312,7 +312,7 @@ LayeredWorld::Impl::FrictionSolve LayeredWorld::Impl::SolveFriction(
   std::vector<Eigen::Matrix2d> mass(n);
   for (size_t k = 0; k < n; ++k) {
     arm[k] = BasePosition(particles[onTop[k]]) - center;
-    particleVel[k] = BaseVelocity(particles[onTop[k]]);
+    particleVel[k] = particles[onTop[k]].padVel;
     mass[k] = pointMass(arm[k]);
   }
   // a sliding table is solved for all its points at once (SolveSlidingTable), without their

@@ -224,11 +224,18 @@ void LayeredWorld::ApplyPlan(const ParticlePlan& plan) {
         p.finger = pp.contact;
         p.prevTarget = pp.start;
         p.target = pp.target;
+        p.born = true;
         p.baseHeight = std::max(0.0, pp.baseHeight);
         p.baseLayer = w.CreationLayer(pp.start, p.baseHeight);
         int layer;
         w.FindSupport(pp.start, p.baseLayer, &layer, &p.baseHeight, &p.restingOn);
         if (layer < p.baseLayer) p.baseLayer = layer;  // nothing there to rest on
+        if (!std::isnan(pp.measured)) {
+          // measured: resting where it was placed while the measurement agrees, hovering at it
+          // otherwise; UpdateActivity gives it bodies in that layer
+          p.measured = std::max(0.0, pp.measured);
+          w.PlaceMeasured(p, pp.start);
+        }
         // no bodies yet: the frame's UpdateActivity gives them to a stack within reach of an
         // object
         p.pos = pp.start;
@@ -243,6 +250,8 @@ void LayeredWorld::ApplyPlan(const ParticlePlan& plan) {
         }
         w.particles[it->second].target = pp.target;
         w.particles[it->second].contact = pp.contact;
+        w.particles[it->second].measured =
+            std::isnan(pp.measured) ? pp.measured : std::max(0.0, pp.measured);
         break;
       case ParticleAction::kDeleted: {
         if (it == w.particleIndex.end()) {
@@ -325,7 +334,10 @@ void LayeredWorld::StepFrame() {
     o.topNormal /= frameTime;
     o.pushes.clear();
   }
-  for (ParticleData& p : w.particles) p.prevTarget = p.target;
+  for (ParticleData& p : w.particles) {
+    p.prevTarget = p.target;
+    p.born = false;
+  }
   ++w.frame;
 }
 
@@ -527,6 +539,8 @@ std::vector<ParticleState> LayeredWorld::Particles() const {
     s.baseLayer = p.baseLayer;
     s.layerCount = m_impl->StackLayers(p);
     s.restingOn = p.restingOn;
+    s.measured = p.measured;
+    s.aloft = p.aloft;
     s.active = p.active;
     out.push_back(s);
   }

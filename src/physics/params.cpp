@@ -37,6 +37,9 @@ void Describe(PhysicsParams& p, ParamVisitor& v) {
             {"fill every layer from a particle's base to the top", Apply::kRestart});
   v.Real("particle_down_force", p.particleDownForce, 0, 1e7, "dyn",
          "constant downward force per particle");
+  v.Real("rest_margin", p.restMargin, 0, 10, "cm",
+         "measured heights: a particle rests on the surface below it while its measured "
+         "underside is at most this above it, and hovers when higher");
   v.Real("particle_friction", p.particleFriction, 0, 10, "1",
          "default friction between particles and objects");
   v.Real("top_kinetic_factor", p.topKineticFactor, 0, 1, "1",

@@ -392,7 +392,10 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
       p.pos = goal;
       continue;
     }
-    const Vec2 goalVel = (p.target - p.prevTarget) * params.frameRate;
+    // a particle created this frame goes from where it was placed to its target; its goal moves
+    // as its finger's surface does (a goal placed beside a face and aimed inside it is a pad
+    // pressed in, not a pad arriving at 1/T times the distance)
+    const Vec2 goalVel = p.born ? p.padVel : Vec2((p.target - p.prevTarget) * params.frameRate);
     p.goalVel = goalVel;
     for (int j = 0; j < static_cast<int>(p.bodies.size()); ++j) {
       b2Body* b = p.bodies[j];
@@ -490,8 +493,86 @@ void LayeredWorld::Impl::ApplyKinematicControl(double alpha) {
   }
 }
 
+void LayeredWorld::Impl::PlaceMeasured(ParticleData& p, const Vec2& pos) {
+  const double m = p.measured;
+  const double margin = params.restMargin;
+  const int K = LayerCount();
+  int layer = 0;
+  double height = 0.0;
+  ObjectId object = kNoObject;
+  bool aloft = false;
+  // still over the object it rests on and not lifted off it: it stays, pressing its top
+  bool kept = false;
+  if (p.restingOn != kNoObject && p.restingOn < static_cast<int>(objects.size())) {
+    const ObjectData& o = objects[p.restingOn];
+    const double h = o.MayHold(pos) ? SurfaceHeightAt(o.spec, o.ToLocal(pos)) : -1.0;
+    if (h >= 0.0 && m <= h + margin) {
+      layer = SupportLayer(p.restingOn, h);
+      height = h;
+      object = p.restingOn;
+      kept = true;
+    }
+  }
+  if (!kept) {
+    // the highest surface under its base, whatever its height: the base body cannot have entered
+    // an object's footprint through its side (it collides with it there), so a base over a
+    // footprint came down onto it from above, and a reading below that top (the finger pressing
+    // into a virtual object) rests on it rather than hovering inside its slices
+    int below = kNoObject;
+    double belowHeight = 0.0;
+    if (K > 1) {
+      for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
+        const ObjectData& o = objects[oi];
+        if (!o.MayHold(pos)) continue;
+        const double h = SurfaceHeightAt(o.spec, o.ToLocal(pos));
+        if (h < 0.0 || h <= belowHeight) continue;
+        below = oi;
+        belowHeight = h;
+      }
+    }
+    const int belowLayer = below == kNoObject ? 0 : SupportLayer(below, belowHeight);
+    if (m <= belowHeight + margin) {
+      layer = belowLayer;
+      height = belowHeight;
+      object = below;
+    } else {
+      // hovering: its underside is in layer floor(m / h) (the slab [k h, (k + 1) h)), and never
+      // in the slices of the surface it is above
+      const double k = std::floor(m / params.layerHeight);
+      aloft = k >= K;
+      layer = aloft ? K - 1 : std::max(static_cast<int>(k), belowLayer);
+      height = m;
+    }
+  }
+  p.restingOn = object;
+  p.baseHeight = height;
+  if (layer == p.baseLayer && aloft == p.aloft) return;
+  if (p.bodies.empty()) {
+    p.baseLayer = layer;
+    p.aloft = aloft;
+    if (aloft) p.active = false;
+    return;
+  }
+  const Vec2 vel = BodyVelocity(p, 0);
+  DestroyBodies(p);
+  p.baseLayer = layer;
+  p.aloft = aloft;
+  if (aloft) {
+    // out of every world until it comes down
+    p.active = false;
+    p.pos = pos;
+    p.vel = vel;
+    return;
+  }
+  CreateBodies(p, pos, vel);
+}
+
 void LayeredWorld::Impl::UpdateSupport() {
   for (ParticleData& p : particles) {
+    if (!std::isnan(p.measured)) {
+      PlaceMeasured(p, BasePosition(p));
+      continue;
+    }
     // A stack out of the worlds this frame stays beyond every object's bounding circle
     // (UpdateActivity), so no object can support it: on the table already, it stays there.
     if (!p.active && p.baseLayer == 0 && p.restingOn == kNoObject && p.baseHeight == 0.0) continue;
@@ -549,13 +630,17 @@ void LayeredWorld::Impl::UpdateSpin() {
     }
     return *run;
   };
+  // A particle created this frame moves from where it was placed to its target: that is no
+  // motion of the finger (placed beside a face, its target inside), and it is left out of the fit
   for (const ParticleData& p : particles) {
     Sums& s = sumsOf(p.finger);
+    if (p.born) continue;
     s.from += p.prevTarget;
     s.to += p.target;
     ++s.count;
   }
   for (const ParticleData& p : particles) {
+    if (p.born) continue;
     Sums& s = sumsOf(p.finger);
     const Vec2 a = p.prevTarget - s.from / s.count;
     const Vec2 b = p.target - s.to / s.count;
@@ -570,6 +655,12 @@ void LayeredWorld::Impl::UpdateSpin() {
   }
   for (ParticleData& p : particles) {
     const Sums& s = sumsOf(p.finger);
+    if (s.count == 0) {
+      // a finger all of whose particles are new shows no motion yet
+      p.spin = 0.0;
+      p.padVel.setZero();
+      continue;
+    }
     p.spin = s.spin;
     const Vec2 arm = p.target - s.to / s.count;
     p.padVel = s.velocity + p.spin * Vec2(-arm.y(), arm.x());
@@ -593,6 +684,12 @@ void LayeredWorld::Impl::UpdateActivity() {
   for (ParticleData& p : particles) {
     bool active = p.restingOn != kNoObject;
     const Vec2 from = BasePosition(p);
+    if (p.aloft) {
+      // above every layer: nothing to touch (UpdateSupport brings it down)
+      assert(p.bodies.empty() && "an aloft stack has no bodies");
+      p.active = false;
+      continue;
+    }
     const Vec2 path = p.target - from;
     const double length2 = path.squaredNorm();
     for (size_t oi = 0; oi < reaches.size() && !active; ++oi) {

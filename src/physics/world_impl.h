@@ -12,6 +12,7 @@
 #include <box2d/box2d.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <unordered_map>
@@ -179,6 +180,14 @@ struct ParticleData {
   double baseHeight = 0.0;
   int baseLayer = 0;
   ObjectId restingOn = kNoObject;
+  /// measured placement: the finger's underside at the particle, as the proxies stage measured
+  /// and smoothed it, cm (NaN: not measured; the stack then keeps its layer while held there and
+  /// falls otherwise). See PlaceMeasured
+  double measured = std::numeric_limits<double>::quiet_NaN();
+  /// measured above every layer: it touches nothing and has no bodies
+  bool aloft = false;
+  /// created this frame: it moves from where it was placed, not with its finger (UpdateSpin)
+  bool born = false;
   /// within reach of an object this frame: it has bodies in its Box2D worlds. Otherwise it has
   /// none, and pos and vel are put on its goals directly (UpdateActivity)
   bool active = false;
@@ -254,8 +263,15 @@ struct LayeredWorld::Impl {
   int StackLayers(const ParticleData& p) const;
   /// Adds an impulse to a particle body's velocity, asleep or not (g cm/s).
   void ApplyParticleImpulse(ParticleData& p, int j, const Vec2& impulse) const;
-  /// Lets particles whose support went away fall to the highest surface below them.
+  /// Lets particles whose support went away fall to the highest surface below them; particles
+  /// with a measured height rest or hover where it says (PlaceMeasured).
   void UpdateSupport();
+  /// A stack with a measured height m at base position pos (docs/physics.md, "Measured
+  /// heights"): on the object it rests on while still over it and m is at most rest_margin above
+  /// its top; otherwise on the highest surface under its base when m is at most rest_margin
+  /// above it, or hovering at m in the layer holding m (above that surface's slices), aloft above
+  /// every layer. Moves its bodies when its layer changes.
+  void PlaceMeasured(ParticleData& p, const Vec2& pos);
   /// At a frame's start: a particle is active while its path this frame passes within reach of
   /// an object (or it rests on one). A stack gets its bodies when it becomes active and loses
   /// them when it stops being so.

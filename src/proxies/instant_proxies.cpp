@@ -132,7 +132,8 @@ void InstantProxies::Update(const ProxyParams& params, const ContactSet& contact
     p.id = ids.Next();
     p.action = ParticleAction::kCreated;
     NearestContactPoint(contacts, edges[i].pos, reach, &p.contact, &p.index);
-    if (params.placement == Placement::kRaycast) {
+    // instant particles have no heights of their own: every placement but ground raycasts
+    if (params.placement != Placement::kGround) {
       p.start = edges[i].pos;
       p.baseHeight = scene.TopHeightAt(p.start);
     } else {

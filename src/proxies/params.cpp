@@ -20,8 +20,18 @@ void Describe(ProxyParams& p, ParamVisitor& v) {
          "windowed search falls back to the full search where its best exceeds a lower bound "
          "on the exact score by more than this per window term");
   VisitEnum(v, "placement", p.placement, kPlacementNames,
-            "new contacts by raycast onto the highest surface, or on the table outside every "
-            "footprint (ground)");
+            "new contacts by raycast onto the highest surface, on the table outside every "
+            "footprint (ground), at the heights a depth camera measured (measured), or measured "
+            "where a contact has heights and by raycast where it has none (auto)");
+  v.Real("height_offset", p.heightOffset, 0, 10, "cm",
+         "measured: how far below a contour point's measured height (the top of the finger near "
+         "its outline) the finger's underside lies");
+  v.Integer("height_span", p.heightSpan, 0, 16, "points",
+            "measured: a particle's height is the median over the contour points this many "
+            "either side of its own");
+  v.Real("height_smoothing", p.heightSmoothing, 0, 1, "s",
+         "measured: time constant of the filter each particle's measured height passes (0 = "
+         "none)");
   v.Real("penetration_limit", p.penetrationLimit, 0, 100, "cm",
          "ground mode: a new contact whose deepest contour point lies deeper than this inside an "
          "object's footprint is placed by raycast (on the top) instead of on the table");

@@ -29,6 +29,54 @@ int NearestKept(const std::vector<int>& pred, int j) {
 }
 
 // the principal axis of a contour's points, rad, and its elongation sqrt(l1 / l2) >= 1
+// whether a contact's particles take their heights from its measurements
+bool Measures(const ProxyParams& params, const Blob& blob) {
+  const bool any = !blob.heights.empty() && blob.heights.size() == size_t(blob.contour.cols());
+  return any && (params.placement == Placement::kMeasured || params.placement == Placement::kAuto);
+}
+
+// the underside of the finger at contour point j of a blob with heights: the median of the
+// measured heights over the points `span` either side of j, less the offset, never below the
+// table, cm
+double MeasuredUnderside(const ProxyParams& params, const Blob& blob, int j,
+                         std::vector<double>& scratch) {
+  const int n = static_cast<int>(blob.heights.size());
+  const int span = std::min(params.heightSpan, (n - 1) / 2);
+  scratch.clear();
+  for (int d = -span; d <= span; ++d) scratch.push_back(blob.heights[size_t(WrapIndex(j + d, n))]);
+  const auto mid = scratch.begin() + static_cast<std::ptrdiff_t>(scratch.size() / 2);
+  std::nth_element(scratch.begin(), mid, scratch.end());
+  return std::max(0.0, *mid - params.heightOffset);
+}
+
+// the contour point of `contour` nearest p, searched from `hint` outwards while the distance
+// falls, then over the whole contour when the local search ends far from p (further than
+// `near`); contours are walked in order, so the hint of the last particle is nearly always right
+int NearestPoint(const Contour& contour, const Vec2& p, int hint, double near) {
+  const int n = static_cast<int>(contour.cols());
+  auto d2 = [&](int i) { return (Vec2(contour.col(i)) - p).squaredNorm(); };
+  int best = WrapIndex(hint, n);
+  double bestD = d2(best);
+  for (const int step : {1, -1}) {
+    for (int i = WrapIndex(best + step, n), tries = 0; tries < n;
+         i = WrapIndex(i + step, n), ++tries) {
+      const double d = d2(i);
+      if (d >= bestD) break;
+      best = i;
+      bestD = d;
+    }
+  }
+  if (bestD <= near * near) return best;
+  for (int i = 0; i < n; ++i) {
+    const double d = d2(i);
+    if (d < bestD) {
+      best = i;
+      bestD = d;
+    }
+  }
+  return best;
+}
+
 double PrincipalAxis(const Contour& c, const Vec2& centre, double* elongation) {
   double xx = 0.0, yy = 0.0, xy = 0.0;
   for (Eigen::Index i = 0; i < c.cols(); ++i) {
@@ -185,6 +233,7 @@ ParticlePlan ProxyStage::Step(const ContactSet& contacts, const SceneQuery& scen
     if (params.mode == ProxyMode::kInstant) {
       for (const auto& [id, track] : m_tracks) DeleteTrack(id, track, plan);
       m_tracks.clear();
+      m_measured.clear();
     } else {
       m_instant.DeleteAll(plan);
     }
@@ -193,6 +242,7 @@ ParticlePlan ProxyStage::Step(const ContactSet& contacts, const SceneQuery& scen
 
   if (params.mode == ProxyMode::kPersistent) {
     Persistent(params, contacts, scene, plan);
+    MeasureHeights(params, contacts, plan);
   } else if (image == nullptr || image->image.empty()) {
     // instant mode sees nothing without an image: last frame's particles still end
     ++m_stats.missingImage;
@@ -204,7 +254,56 @@ ParticlePlan ProxyStage::Step(const ContactSet& contacts, const SceneQuery& scen
   return plan;
 }
 
+void ProxyStage::MeasureHeights(const ProxyParams& params, const ContactSet& contacts,
+                                ParticlePlan& plan) {
+  // Each particle of a contact with heights reads the finger's underside at the contour point
+  // nearest its target, and follows it through a first-order filter that goes a = 1 - exp(-T /
+  // tau) of the way to each reading, frames T apart: a ramp is followed T (1 - a) / a late, and
+  // noise is cut to sqrt(a / (2 - a)) of itself (docs/proxies.md, "Measured heights").
+  const double frame = contacts.time - m_measuredTime;
+  const double a = params.heightSmoothing > 0.0 && frame > 0.0 && m_measuredTime >= 0.0
+                       ? 1.0 - std::exp(-frame / params.heightSmoothing)
+                       : 1.0;
+  m_measuredTime = contacts.time;
+  std::unordered_map<ContactId, const Blob*> blobs;
+  for (const Contact& c : contacts.contacts) {
+    if (c.state != ContactState::kLifted && Measures(params, c.blob)) blobs.emplace(c.id, &c.blob);
+  }
+  if (blobs.empty() && m_measured.empty()) return;  // nothing measured (the IR camera)
+  ContactId last = kNoId;
+  const Blob* blob = nullptr;
+  int hint = 0;
+  for (PlannedParticle& p : plan.particles) {
+    if (p.action == ParticleAction::kDeleted) {
+      m_measured.erase(p.id);
+      continue;
+    }
+    if (p.contact != last) {
+      last = p.contact;
+      const auto it = blobs.find(p.contact);
+      blob = it != blobs.end() ? it->second : nullptr;
+      hint = 0;
+    }
+    if (blob == nullptr || blob->contour.cols() == 0) {
+      m_measured.erase(p.id);
+      continue;
+    }
+    hint = NearestPoint(blob->contour, p.target, hint, 1.0);
+    const double now = MeasuredUnderside(params, *blob, hint, m_scratch);
+    const auto it = m_measured.find(p.id);
+    if (p.action == ParticleAction::kCreated || it == m_measured.end()) {
+      p.measured = now;
+      m_measured[p.id] = now;
+    } else {
+      it->second += a * (now - it->second);
+      p.measured = it->second;
+    }
+  }
+}
+
 void ProxyStage::Reset() {
+  m_measured.clear();
+  m_measuredTime = -1.0;
   m_tracks.clear();
   m_feedback.clear();
   m_instant.Reset();
@@ -596,8 +695,10 @@ void ProxyStage::Seed(const ProxyParams& params, const Contact& contact, const S
   // ground mode keeps a contact on the table unless its deepest contour point lies deeper than
   // the penetration limit inside a footprint; raycast mode (and such a deep contact) places every
   // point on the highest surface under it
-  bool raycast = params.placement == Placement::kRaycast;
-  if (!raycast) {
+  const bool measured = Measures(params, contact.blob);
+  bool raycast = params.placement == Placement::kRaycast ||
+                 (params.placement == Placement::kAuto && !measured);
+  if (!raycast && !measured) {
     double deepest = 0.0;
     for (int j = 0; j < m; ++j) {
       double top = 0.0;
@@ -613,7 +714,24 @@ void ProxyStage::Seed(const ProxyParams& params, const Contact& contact, const S
     p.index = j;
     p.action = ParticleAction::kCreated;
     p.target = cur.col(j);
-    if (raycast) {
+    if (measured) {
+      // at the measured height; a point measured inside an object's volume (below its top,
+      // within its footprint) starts where it is freed by the shorter move: up onto the top or
+      // out through the side
+      const double under = MeasuredUnderside(params, contact.blob, j, m_scratch);
+      double top = 0.0;
+      const double depth = scene.FootprintDepth(p.target, &top);
+      if (depth <= 0.0 || under >= top) {
+        p.start = p.target;
+        p.baseHeight = under;
+      } else if (top - under <= depth) {
+        p.start = p.target;
+        p.baseHeight = top;
+      } else {
+        p.start = scene.NearestOutside(p.target);
+        p.baseHeight = under;
+      }
+    } else if (raycast) {
       p.start = p.target;
       p.baseHeight = scene.TopHeightAt(p.target);
     } else {

@@ -203,7 +203,26 @@ void Simulation::ProcessContours(FrameStats& stats, double senseMs, const Contac
 
   // tracking: stable contact ids
   Stopwatch watch(m_options.stageClock);
-  m_contacts = tracked ? *tracked : m_tracker.Step(m_contours);
+  // measured placement: the regions a depth camera sees above the touch band are tracked too,
+  // so that hovering fingers and hands have particles at their heights (docs/proxies.md,
+  // "Measured heights"); `sense` (tracking alone) tracks the touches only
+  const Placement placement = m_params.proxies.placement;
+  const bool trackHover = !tracked && m_options.stages == RunStages::kAll && !instant &&
+                          !m_contours.hover.empty() &&
+                          (placement == Placement::kMeasured || placement == Placement::kAuto);
+  if (tracked) {
+    m_contacts = *tracked;
+  } else if (trackHover) {
+    ContourFrame all;
+    all.index = m_contours.index;
+    all.time = m_contours.time;
+    all.blobs.reserve(m_contours.blobs.size() + m_contours.hover.size());
+    all.blobs = m_contours.blobs;
+    all.blobs.insert(all.blobs.end(), m_contours.hover.begin(), m_contours.hover.end());
+    m_contacts = m_tracker.Step(all);
+  } else {
+    m_contacts = m_tracker.Step(m_contours);
+  }
   stats.trackMs = watch.Ms();
   AttributeContacts();
 
@@ -223,7 +242,7 @@ void Simulation::ProcessContours(FrameStats& stats, double senseMs, const Contac
   stats.totalMs = senseMs + total.Ms();
 
   for (const Contact& c : m_contacts.contacts) {
-    if (c.state != ContactState::kLifted) ++stats.contacts;
+    if (c.state != ContactState::kLifted && !c.blob.hover) ++stats.contacts;
   }
   stats.merges = m_contacts.merges;
   stats.splits = m_contacts.splits;

@@ -87,7 +87,7 @@ std::string MeanHeightField(const Range& items, BlobOf blobOf) {
 std::string FrameRow(const Simulation& sim) {
   const FrameStats& f = sim.stats();
   const std::string contactHeight = MeanHeightField(sim.contacts().contacts, [](const Contact& c) {
-    return c.state == ContactState::kLifted ? nullptr : &c.blob;
+    return c.state == ContactState::kLifted || c.blob.hover ? nullptr : &c.blob;
   });
   const std::vector<Blob>& hover = sim.contours().hover;
   const std::string hoverHeight = MeanHeightField(hover, [](const Blob& b) { return &b; });
@@ -106,6 +106,7 @@ std::string ContactRows(const Simulation& sim) {
   const std::string t = FormatFixed(sim.Time(), 6);
   std::string rows;
   for (const Contact& c : sim.contacts().contacts) {
+    if (c.blob.hover) continue;  // hover regions are not touches (frames.csv counts them)
     const std::optional<double> h = c.blob.MeanHeight();
     rows += frame + "," + t + "," + std::to_string(c.id) + "," +
             kContactStateNames[static_cast<int>(c.state)] + "," +

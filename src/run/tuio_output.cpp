@@ -17,7 +17,8 @@ constexpr const char* kFilePrefix = "file:";
 std::vector<TuioOutContact> ToTuioOutContacts(const ContactSet& contacts) {
   std::vector<TuioOutContact> out;
   for (const Contact& c : contacts.contacts) {
-    if (c.state == ContactState::kLifted) continue;
+    // hover regions tracked for measured placement are not touches
+    if (c.state == ContactState::kLifted || c.blob.hover) continue;
     TuioOutContact& o = out.emplace_back();
     o.id = c.id;
     o.centroid = c.blob.centroid;

@@ -216,6 +216,7 @@ Result<ContourFrame> DepthSensor::Step(const cv::Mat& depthMm, int64_t index, do
   Extract(m_touch, touchAreas ? &m_touchAreas : nullptr, m_sensing.minArea, m_depth.minWidth,
           out.blobs);
   Extract(m_hover, hoverAreas ? &m_hoverAreas : nullptr, m_depth.hoverMinArea, 0.0, out.hover);
+  for (Blob& b : out.hover) b.hover = true;
   Learn(depthMm, dt);
   return out;
 }

@@ -13,7 +13,7 @@ TEST(PhysicsParams, EveryFieldHasUnitAndDefaultInRange) {
   PhysicsParams p;
   const ParamSection section{"physics", [&p](ParamVisitor& v) { Describe(p, v); }};
   const std::vector<FieldInfo> fields = ListFields(section);
-  EXPECT_EQ(fields.size(), 21u);
+  EXPECT_EQ(fields.size(), 22u);
   for (const FieldInfo& f : fields) {
     EXPECT_FALSE(f.doc.empty()) << f.key;
     if (f.type == FieldInfo::Type::kReal || f.type == FieldInfo::Type::kInteger) {

@@ -1044,5 +1044,110 @@ TEST(Substeps, ALightBoxPressedByManyBodiesTakesTheSubstepsThatKeepItStill) {
   EXPECT_GT(spin, DegToRad(20.0));
 }
 
+// Measured heights (issue 44, docs/physics.md "Measured heights"): stacks whose finger's underside
+// is measured rest on the surface below it or hover at it.
+
+PlannedParticle Measured(PlannedParticle pp, double measured) {
+  pp.measured = measured;
+  return pp;
+}
+
+TEST(MeasuredHeight, AStackRestsHoversAndGoesAloftAsItsMeasuredHeightSays) {
+  // a 2 cm box; one stack above its middle, measured from 4 cm down to 2.1 (on the top, within
+  // rest_margin 0.5 cm), then up to 2.6 (above it), then 9 cm (above the 8 layers)
+  PhysicsParams p;
+  LayeredWorld w;
+  MustBuild(w, p, {Box("box", 20, 20, 6, 6, 2)});
+  const Vec2 at(20, 20);
+  w.ApplyPlan(Plan({Measured(Create(1, at, at, 4.0), 4.0)}));
+  w.StepFrame();
+  ParticleState s = w.Particles()[0];
+  EXPECT_EQ(s.restingOn, kNoObject);
+  EXPECT_EQ(s.baseLayer, 4);  // floor(4 / 1 cm)
+  EXPECT_DOUBLE_EQ(s.baseHeight, 4.0);
+  struct Case {
+    double measured;
+    ObjectId restingOn;
+    int layer;
+    double height;
+    bool aloft;
+  };
+  for (const Case& c : {Case{2.1, 0, 2, 2.0, false}, Case{2.4, 0, 2, 2.0, false},
+                        Case{2.6, kNoObject, 2, 2.6, false}, Case{3.7, kNoObject, 3, 3.7, false},
+                        Case{1.8, 0, 2, 2.0, false},  // came down onto the top: it lands on it
+                        Case{1.2, 0, 2, 2.0, false},  // and presses it, never sinking into it
+                        Case{9.0, kNoObject, 7, 9.0, true}, Case{2.2, 0, 2, 2.0, false}}) {
+    w.ApplyPlan(Plan({Measured(Reuse(1, at), c.measured)}));
+    w.StepFrame();
+    s = w.Particles()[0];
+    EXPECT_EQ(s.restingOn, c.restingOn) << "measured " << c.measured;
+    EXPECT_EQ(s.baseLayer, c.layer) << "measured " << c.measured;
+    EXPECT_DOUBLE_EQ(s.baseHeight, c.height) << "measured " << c.measured;
+    EXPECT_EQ(s.aloft, c.aloft) << "measured " << c.measured;
+    if (c.aloft) {
+      EXPECT_FALSE(s.active);
+    }
+    EXPECT_EQ(w.Object(0).particlesOnTop, c.restingOn == 0 ? 1 : 0) << "measured " << c.measured;
+  }
+}
+
+TEST(MeasuredHeight, AFingerInTheAirPushesATallBoxAndPassesOverALowOne) {
+  // Stacks measured 1.5 cm up hover in layer 1: they meet a 3 cm box's face (layers 0 to 2) and
+  // share no layer with a 1 cm box (layer 0). Each row of stacks moves 10 cm at 5 cm/s toward
+  // its box; the tall box is pushed to where the row's leading edge ends, the low one stays.
+  PhysicsParams p;
+  LayeredWorld w;
+  ObjectSpec tall = Box("tall", 20, 10, 4, 6, 3), low = Box("low", 20, 30, 4, 6, 1);
+  tall.mass = low.mass = 20;
+  MustBuild(w, p, {tall, low});
+  std::vector<PlannedParticle> plan;
+  ParticleId id = 1;
+  for (const double y : {10.0, 30.0}) {
+    for (int k = -3; k <= 3; ++k) {
+      const Vec2 at(12, y + 0.3 * k);
+      plan.push_back(Measured(Create(id++, at, at, 1.5), 1.5));
+    }
+  }
+  w.ApplyPlan(Plan(plan));
+  w.StepFrame();
+  const int frames = 120;
+  for (int f = 1; f <= frames; ++f) {
+    plan.clear();
+    id = 1;
+    for (const double y : {10.0, 30.0}) {
+      for (int k = -3; k <= 3; ++k) {
+        plan.push_back(Measured(Reuse(id++, Vec2(12 + 10.0 * f / frames, y + 0.3 * k)), 1.5));
+      }
+    }
+    w.ApplyPlan(Plan(plan));
+    w.StepFrame();
+  }
+  for (const ParticleState& s : w.Particles()) EXPECT_EQ(s.baseLayer, 1);
+  // the row ends at x = 22, its bodies' leading edge 0.25 cm further: the tall box's face (its
+  // centre 2 cm behind) at 22.25, less the contact's slop
+  EXPECT_NEAR(w.Object(0).pose.pos.x(), 24.25, 0.02);
+  EXPECT_NEAR(w.Object(0).pose.pos.y(), 10.0, 0.02);
+  EXPECT_EQ(w.Object(1).pose.pos, Vec2(20, 30));
+  // back to x = 12 in the air, lowered to the table there, and across again: now it meets the
+  // low box's face in layer 0 and pushes it as far
+  auto row = [&](double x, double measured) {
+    plan.clear();
+    for (int k = -3; k <= 3; ++k) {
+      plan.push_back(Measured(Reuse(8 + k + 3, Vec2(x, 30 + 0.3 * k)), measured));
+    }
+    w.ApplyPlan(Plan(plan));
+    w.StepFrame();
+  };
+  for (int f = 1; f <= frames; ++f) row(22 - 10.0 * f / frames, 1.5);
+  row(12, 0.1);
+  for (const ParticleState& s : w.Particles()) {
+    if (s.id >= 8) {
+      EXPECT_EQ(s.baseLayer, 0);
+    }
+  }
+  for (int f = 1; f <= frames; ++f) row(12 + 10.0 * f / frames, 0.1);
+  EXPECT_NEAR(w.Object(1).pose.pos.x(), 24.25, 0.02);
+}
+
 }  // namespace
 }  // namespace pg

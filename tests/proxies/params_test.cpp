@@ -23,7 +23,8 @@ TEST(ProxyParams, EveryFieldIsDescribedOnce) {
   EXPECT_EQ(keys, (std::set<std::string>{"mode", "algorithm", "window", "search_radius",
                                          "fallback_score", "placement", "penetration_limit",
                                          "instant_threshold", "instant_spacing",
-                                         "instant_flow_window", "subsample", "count_hysteresis"}));
+                                         "instant_flow_window", "subsample", "count_hysteresis",
+                                         "height_offset", "height_span", "height_smoothing"}));
 }
 
 TEST(ProxyParams, SetByName) {

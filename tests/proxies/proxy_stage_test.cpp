@@ -798,6 +798,103 @@ TEST(ProxyStage, ModeSwitchEndsTheOtherModesParticles) {
   EXPECT_EQ(back.created, c.cols());
 }
 
+// Measured placement (issue 44): a contact with heights, every contour point measured at `top`
+// cm (the top of the finger near its outline, which the stage takes height_offset below)
+Contact MeasuredContact(ContactId id, ContactState state, const Contour& contour, double top) {
+  Contact c = MakeContact(id, state, contour);
+  c.blob.heights.assign(static_cast<size_t>(contour.cols()), top);
+  return c;
+}
+
+TEST(ProxyStage, MeasuredContactIsPlacedAtItsMeasuredUnderside) {
+  // a fingertip measured 3 cm up over the table: particles at 3 - 0.8 cm, where their targets are
+  Harness h;
+  const Contour c = Sensed(Moved(CircleOutline(0.8), {Vec2(20, 20)}));
+  const ParticlePlan plan = h.Step(MakeSet(0, {MeasuredContact(1, ContactState::kNew, c, 3.0)}));
+  ASSERT_EQ(plan.created, c.cols());
+  for (const PlannedParticle& p : plan.particles) {
+    EXPECT_NEAR(p.measured, 3.0 - h.params.heightOffset, 1e-12);
+    EXPECT_NEAR(p.baseHeight, 3.0 - h.params.heightOffset, 1e-12);
+    EXPECT_NEAR((p.start - p.target).norm(), 0.0, kExact);
+  }
+  // the same contour without heights is placed by raycast and carries no measurement (auto)
+  Harness ir;
+  const ParticlePlan plain = ir.Step(MakeSet(0, {MakeContact(1, ContactState::kNew, c)}));
+  for (const PlannedParticle& p : plain.particles) EXPECT_TRUE(std::isnan(p.measured));
+}
+
+TEST(ProxyStage, MeasuredPointInsideAnObjectIsFreedByTheShorterMove) {
+  // A box 2 cm tall over x in [20, 24]. A fingertip measured on the table (0.9 cm at its outline,
+  // underside 0.1 cm) whose outline reaches 0.8 cm into the footprint: leaving through the side
+  // (at most 0.8 cm) is shorter than climbing the 1.9 cm to the top, so those points start outside.
+  // The same fingertip measured 1.7 cm up (underside 0.9 cm, 1.1 cm below the top) but reaching
+  // 1.4 cm in: its deepest points are freed upward, onto the top.
+  Harness h;
+  h.scene.boxes.push_back({Vec2(20, 10), Vec2(24, 30), 2.0});
+  const Contour low = Sensed(Moved(CircleOutline(0.8), {Vec2(19.999, 20)}));
+  const ParticlePlan a = h.Step(MakeSet(0, {MeasuredContact(1, ContactState::kNew, low, 0.9)}));
+  for (const PlannedParticle& p : a.particles) {
+    EXPECT_LE(p.start.x(), 20.0 + 1e-6) << "point " << p.index << " starts inside the box";
+    EXPECT_NEAR(p.baseHeight, 0.1, 1e-12);
+  }
+  const Contour high = Sensed(Moved(CircleOutline(0.8), {Vec2(20.6, 20)}));
+  const ParticlePlan b = h.Step(MakeSet(1, {MeasuredContact(2, ContactState::kNew, high, 1.7)}));
+  int onTop = 0, beside = 0;
+  for (const PlannedParticle& p : b.particles) {
+    if (p.action != ParticleAction::kCreated || p.contact != 2) continue;
+    const double depth = p.target.x() - 20.0;
+    if (depth <= 0.0) continue;  // outside the footprint: at its measurement
+    if (depth > 1.1 + 1e-9) {
+      EXPECT_EQ(p.baseHeight, 2.0) << "point " << p.index << " " << depth << " cm in";
+      ++onTop;
+    } else {
+      EXPECT_NEAR(p.baseHeight, 0.9, 1e-12) << "point " << p.index << " " << depth << " cm in";
+      ++beside;
+    }
+  }
+  EXPECT_GT(onTop, 0);
+  EXPECT_GT(beside, 0);
+}
+
+TEST(ProxyStage, MeasuredHeightsFollowALiftWithinTheFiltersLag) {
+  // A fingertip lifted at 5 cm/s, seen at 60 Hz. The filter (time constant tau =
+  // height_smoothing) goes a = 1 - exp(-T / tau) of the way to each new reading, T apart: after a
+  // 1 cm step, a cm in one frame; on a ramp it trails by T (1 - a) / a in time, at the default
+  // 0.015 s 0.49 frames, within the 2 frames issue 44 allows.
+  Harness h;
+  const double frame = 1.0 / 60.0;
+  const Contour c = Sensed(Moved(CircleOutline(0.8), {Vec2(20, 20)}));
+  auto set = [&](int64_t n, ContactState state, double top) {
+    ContactSet s = MakeSet(n, {MeasuredContact(1, state, c, top)});
+    s.time = static_cast<double>(n) * frame;
+    return s;
+  };
+  h.Step(set(0, ContactState::kNew, 1.0));
+  ParticlePlan plan = h.Step(set(1, ContactState::kContinuing, 2.0));
+  const double a = 1.0 - std::exp(-frame / h.params.heightSmoothing);
+  for (const PlannedParticle& p : plan.particles) {
+    EXPECT_NEAR(p.measured, 0.2 + a, 1e-9);
+  }
+  // the ramp: 5 cm/s for 30 frames; in the steady state the filtered height trails the measured
+  // one by v T (1 - a) / a
+  double top = 2.0, lag = 0.0;
+  for (int n = 2; n < 32; ++n) {
+    top += 5.0 * frame;
+    plan = h.Step(set(n, ContactState::kContinuing, top));
+    lag = (top - h.params.heightOffset) - plan.particles.front().measured;
+  }
+  EXPECT_NEAR(lag / 5.0, frame * (1.0 - a) / a, 1e-6);  // 30 frames: the transient a^30 is gone
+  EXPECT_LT(lag / 5.0, 2.0 * frame);
+  // the median over height_span points either side passes one wild reading by
+  std::vector<double> heights(static_cast<size_t>(c.cols()), 2.0);
+  heights[3] = 9.0;
+  ContactSet wild = set(40, ContactState::kContinuing, 2.0);
+  wild.contacts[0].blob.heights = heights;
+  h.params.heightSmoothing = 0.0;
+  plan = h.Step(wild);
+  for (const PlannedParticle& p : plan.particles) EXPECT_NEAR(p.measured, 1.2, 1e-9);
+}
+
 }  // namespace
 // MatchSuccessors is the search the stage runs: each algorithm as its own function gives it, and
 // the windowed search reports the points it handed to the exact search.

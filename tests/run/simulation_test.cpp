@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "run/test_levels.h"
@@ -470,6 +471,71 @@ TEST(Simulation, RetuneBeforeStartIsAnError) {
   const Result<RetuneReport> r = sim.Retune(LevelParams{});
   ASSERT_FALSE(r.ok());
   EXPECT_THAT(r.error().message, HasSubstr("not started"));
+}
+
+// Measured heights end to end (issue 44): a fingertip on the synthetic depth camera held 3 cm up,
+// then lifted at 5 cm/s to 5.5 cm. Its pad's particles (the half away from the finger rising
+// behind it, within its radius plus 0.4 cm of its centre) sit within 0.5 cm of its height at rest,
+// and follow the lift within 2 frames: the pad's mean height best matches the script's height
+// that many frames earlier. Camera seeds 1 to 6.
+TEST(Simulation, MeasuredFingertipParticlesSitAtItsHeightAndFollowALift) {
+  constexpr double kFrame = 1.0 / 60.0;
+  auto scripted = [](double t) { return t < 0.5 ? 3.0 : t < 1.0 ? 3.0 + 5.0 * (t - 0.5) : 5.5; };
+  for (int seed = 1; seed <= 6; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const Level level = test::ParseOrFail(
+        "[camera]\nkind = \"depth\"\nseed = " + std::to_string(seed) +
+            "\n[[script.contacts]]\nname = \"f\"\nshape = \"circle\"\nradius = 0.8\nkeys = [\n"
+            "{t = 0.0, pos = [30, 23], height = 3}, {t = 0.5, pos = [30, 23], height = 3},\n"
+            "{t = 1.0, pos = [30, 23], height = 5.5}, {t = 1.3, pos = [30, 23], height = 5.5}]\n",
+        "lift.toml");
+    Simulation sim;
+    ASSERT_FALSE(sim.Start(level, level.params));
+    const Vec2 centre(30, 23);
+    std::vector<double> mean;  // the pad's mean height after each frame (NaN: no pad particle)
+    double worstAtRest = 0.0;
+    int atRest = 0;
+    for (int f = 0; f < 78; ++f) {
+      ASSERT_FALSE(sim.StepScript());
+      double sum = 0.0;
+      int n = 0;
+      const double t = (f + 1) * kFrame;
+      for (const ParticleState& p : sim.world().Particles()) {
+        const Vec2 d = p.target - centre;
+        if (d.norm() > 1.2 || d.y() < 0.0) continue;
+        sum += p.baseHeight;
+        ++n;
+        if (t > 0.2 && t <= 0.5) {
+          worstAtRest = std::max(worstAtRest, std::abs(p.baseHeight - 3.0));
+          ++atRest;
+        }
+      }
+      mean.push_back(n > 0 ? sum / n : std::nan(""));
+    }
+    EXPECT_GT(atRest, 100);
+    EXPECT_LE(worstAtRest, 0.5);
+    // the lag: the delay (in quarter frames) whose script height best matches the ramp's means
+    double bestLag = -1.0, bestRms = 1e9;
+    for (double lag = 0.0; lag <= 6.0; lag += 0.25) {
+      double sq = 0.0;
+      int n = 0;
+      for (int f = 0; f < static_cast<int>(mean.size()); ++f) {
+        const double t = (f + 1) * kFrame;
+        if (t < 0.55 || t > 0.95 || std::isnan(mean[f])) continue;
+        const double e = mean[f] - scripted(t - lag * kFrame);
+        sq += e * e;
+        ++n;
+      }
+      ASSERT_GT(n, 20);
+      if (std::sqrt(sq / n) < bestRms) {
+        bestRms = std::sqrt(sq / n);
+        bestLag = lag;
+      }
+    }
+    std::printf("seed %d: worst at rest %.3f cm, lag %.2f frames (rms %.3f cm)\n", seed,
+                worstAtRest, bestLag, bestRms);
+    EXPECT_LE(bestLag, 2.0);
+  }
 }
 
 }  // namespace

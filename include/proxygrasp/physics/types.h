@@ -7,6 +7,7 @@
 #include "proxygrasp/core/params.h"
 #include "proxygrasp/core/table.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct PhysicsParams {
   int stackSize = 1;                ///< S, bodies per particle stack in consecutive layers
   bool capsule = false;             ///< fill every layer from the base to the top instead of S
   double particleDownForce = 2000;  ///< constant downward force per particle, dyn
+  double restMargin = 0.5;          ///< measured heights: a stack rests on the surface below it
+                                    ///< while its measured underside is at most this above it,
+                                    ///< and hovers higher, cm
   double particleFriction = 0.8;    ///< default particle-to-object friction, non-dimensional
   double topKineticFactor = 0.75;   ///< top friction: kinetic / static coefficient, non-dimensional
   double heldOpposingDot = -0.5;    ///< held: contact normals whose dot product is below this
@@ -125,7 +129,11 @@ struct ParticleState {
   double baseHeight = 0.0;         ///< height of the surface it rests on, cm
   int baseLayer = 0;               ///< layer of its lowest body
   int layerCount = 0;              ///< layers the stack fills, consecutive from the base
-  ObjectId restingOn = kNoObject;  ///< the object it rests on; kNoObject: the table
+  ObjectId restingOn = kNoObject;  ///< the object it rests on; kNoObject: the table (or
+                                   ///< hovering, when baseHeight is above every top under it)
+  /// measured placement: the finger's underside measured at it, cm (NaN when not measured)
+  double measured = std::numeric_limits<double>::quiet_NaN();
+  bool aloft = false;  ///< measured above every layer: it has no bodies and touches nothing
   /// within reach of an object in the last frame: it has one Box2D body per layer it fills.
   /// Otherwise it has none and is put on its target directly (docs/physics.md)
   bool active = false;

@@ -95,12 +95,18 @@ class ProxyStage {
                       const std::vector<const Contact*>& targets, const SceneQuery& scene,
                       ParticlePlan& plan);
   void FindGripTurns(const ContactSet& contacts, const SceneQuery& scene);
+  // measured placement: each planned particle of a contact with heights gets its smoothed
+  // measured underside (PlannedParticle::measured)
+  void MeasureHeights(const ProxyParams& params, const ContactSet& contacts, ParticlePlan& plan);
 
   ProxyParams m_params;
   std::map<ContactId, Track> m_tracks;  // ordered: plans come out in the same order every run
   std::unordered_map<ParticleId, ParticleFeedback> m_feedback;  // this frame's feedback by id
   std::unordered_map<ContactId, double>
       m_gripTurn;  // this frame's turn of each contact's grip, rad
+  std::unordered_map<ParticleId, double> m_measured;  // each particle's filtered height, cm
+  double m_measuredTime = -1.0;  // time of the last frame measured, s (< 0: none yet)
+  std::vector<double> m_scratch;
   InstantProxies m_instant;
   IdCounter m_ids;
   ProxyMode m_lastMode = ProxyMode::kPersistent;

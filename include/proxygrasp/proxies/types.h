@@ -8,6 +8,7 @@
 #include "proxygrasp/core/params.h"
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace pg {
@@ -22,9 +23,11 @@ inline constexpr const char* kProxyModeNames[] = {"persistent", "instant"};
 enum class MatchAlgorithm { kReference, kFast, kWindowed };
 inline constexpr const char* kMatchAlgorithmNames[] = {"reference", "fast", "windowed"};
 
-/// Where new particles go: by raycast onto the highest surface, or always on the table.
-enum class Placement { kRaycast, kGround };
-inline constexpr const char* kPlacementNames[] = {"raycast", "ground"};
+/// Where new particles go: by raycast onto the highest surface, always on the table, at the height
+/// the depth camera measured (issue 44), or measured where the contact has heights and by raycast
+/// where it has none (auto).
+enum class Placement { kRaycast, kGround, kMeasured, kAuto };
+inline constexpr const char* kPlacementNames[] = {"raycast", "ground", "measured", "auto"};
 
 /// Parameters of the proxies stage. Section [proxies] of a level.
 struct ProxyParams {
@@ -40,7 +43,14 @@ struct ProxyParams {
   double fallbackScore = 0.5;  ///< windowed search falls back to the full search where its
                                ///< best exceeds a lower bound on the exact score by more than
                                ///< this per window term, cm^2
-  Placement placement = Placement::kRaycast;
+  Placement placement = Placement::kAuto;
+  double heightOffset = 0.8;       ///< measured: a contour point's height (the top of what the
+                                   ///< depth camera sees near the outline) less this is the
+                                   ///< underside of the finger there, cm
+  int heightSpan = 2;              ///< measured: a particle's height is the median over the
+                                   ///< contour points this many either side of its own, points
+  double heightSmoothing = 0.015;  ///< measured: time constant of the per-particle filter that
+                                   ///< follows the measured height, s (0: none)
   double penetrationLimit = 1.5;   ///< ground mode: a new contact whose deepest contour point
                                    ///< lies deeper than this inside an object's footprint goes
                                    ///< on its top (by raycast) instead of the table, cm
@@ -87,6 +97,10 @@ struct PlannedParticle {
   Vec2 target = Vec2::Zero();  ///< where kinematic control drives it by the frame's end, cm
   Vec2 start = Vec2::Zero();   ///< created: where it is placed; otherwise unused, cm
   double baseHeight = 0.0;     ///< created: height it rests at; reused: unchanged, cm
+  /// measured placement (a contact with heights): the underside of the finger at the particle,
+  /// measured and smoothed, cm; NaN when not measured. The physics rests the stack on the
+  /// surface below it or lets it hover at this height (docs/physics.md, "Measured heights")
+  double measured = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The output of the proxies stage for one frame; the physics applies it.

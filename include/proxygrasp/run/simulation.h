@@ -30,7 +30,7 @@ namespace pg {
 struct FrameStats {
   int64_t frame = 0;     ///< frame number from 0
   double time = 0.0;     ///< s, at the start of the frame
-  int contacts = 0;      ///< current (not lifted) contacts
+  int contacts = 0;      ///< current (not lifted) touching contacts (hover regions not counted)
   int merges = 0;        ///< contacts that several of the last frame's merged into (tracking)
   int splits = 0;        ///< last frame's contacts that split into several (tracking)
   int particles = 0;     ///< live particle stacks after the frame

@@ -127,6 +127,9 @@ struct Blob {
   /// Depth cameras: the height measured above the surface at each contour point, cm (one per
   /// column of `contour`); empty for the IR camera.
   std::vector<double> heights;
+  /// Depth cameras: a region above the touch band (ContourFrame::hover), not a touch. The
+  /// simulation tracks such regions with the touches for measured placement (docs/proxies.md).
+  bool hover = false;
 
   /// The mean of `heights`, cm: the contact's height as `sense`, the traces, TUIO and the
   /// preview give it. Nothing without heights (the IR camera).
