@@ -1,6 +1,7 @@
 #include "proxygrasp/run/simulation.h"
 
 #include "proxygrasp/core/text.h"
+#include "proxygrasp/run/tuio_input.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -9,7 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "run/test_levels.h"
 
@@ -536,6 +539,56 @@ TEST(Simulation, MeasuredFingertipParticlesSitAtItsHeightAndFollowALift) {
                 worstAtRest, bestLag, bestRms);
     EXPECT_LE(bestLag, 2.0);
   }
+}
+
+// TUIO input with heights (issue 44): a contact sensed and tracked elsewhere whose outline comes
+// with a height is placed at it, as a depth camera's is. A fingertip sent 4.8 cm up (underside 4
+// cm, height_offset 0.8) over a 2 cm box hovers in layer 4; sent at 2.8 (underside 2.0) it comes
+// down onto the top and rests on it; the same contact without heights is raycast onto the top.
+TEST(Simulation, TuioContactsWithHeightsArePlacedAtThem) {
+  const Level level = test::ParseOrFail(test::BoxToml("box", 30, 23, 6, 2), "tuio_heights.toml");
+  Simulation sim;
+  ASSERT_FALSE(sim.Start(level, level.params));
+  std::vector<Vec2> outline;
+  for (int k = 0; k < 24; ++k) {
+    const double a = 2.0 * M_PI * k / 24;
+    outline.push_back(Vec2(30 + 0.8 * std::cos(a), 23 + 0.8 * std::sin(a)));
+  }
+  auto step = [&](ContactState state, std::optional<double> height) {
+    ContactSet set;
+    set.frame = sim.Frame();
+    set.time = sim.Time();
+    Contact c;
+    c.id = 1;
+    c.state = state;
+    c.blob = BlobFromOutline(outline, level.params.sensing.spacing);
+    if (height) c.blob.heights.assign(static_cast<size_t>(c.blob.contour.cols()), *height);
+    if (state == ContactState::kContinuing) c.parents = {1};
+    set.contacts.push_back(c);
+    ASSERT_FALSE(sim.StepContacts(set));
+  };
+  step(ContactState::kNew, 4.8);
+  ASSERT_GT(sim.world().ParticleCount(), 10);
+  for (const ParticleState& p : sim.world().Particles()) {
+    EXPECT_EQ(p.restingOn, kNoObject);
+    EXPECT_EQ(p.baseLayer, 4);
+    EXPECT_NEAR(p.baseHeight, 4.0, 1e-9);
+  }
+  for (int f = 0; f < 5; ++f) step(ContactState::kContinuing, 2.8);
+  for (const ParticleState& p : sim.world().Particles()) {
+    EXPECT_EQ(p.restingOn, 0);
+    EXPECT_EQ(p.baseLayer, 2);
+  }
+  // without heights: the paper's raycast, onto the top at once
+  Simulation raycast;
+  ASSERT_FALSE(raycast.Start(level, level.params));
+  ContactSet set;
+  Contact c;
+  c.id = 1;
+  c.blob = BlobFromOutline(outline, level.params.sensing.spacing);
+  set.contacts.push_back(c);
+  ASSERT_FALSE(raycast.StepContacts(set));
+  for (const ParticleState& p : raycast.world().Particles()) EXPECT_EQ(p.restingOn, 0);
 }
 
 }  // namespace
