@@ -21,8 +21,8 @@ void Describe(ProxyParams& p, ParamVisitor& v) {
          "on the exact score by more than this per window term");
   VisitEnum(v, "placement", p.placement, kPlacementNames,
             "new contacts by raycast onto the highest surface, on the table outside every "
-            "footprint (ground), at the heights a depth camera measured (measured), or measured "
-            "where a contact has heights and by raycast where it has none (auto)");
+            "footprint (ground), or at the heights a depth camera measured where a contact has "
+            "them and by raycast where it has none (measured, auto)");
   v.Real("height_offset", p.heightOffset, 0, 10, "cm",
          "measured: how far below a contour point's measured height (the top of the finger near "
          "its outline) the finger's underside lies");

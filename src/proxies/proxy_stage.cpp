@@ -696,8 +696,8 @@ void ProxyStage::Seed(const ProxyParams& params, const Contact& contact, const S
   // the penetration limit inside a footprint; raycast mode (and such a deep contact) places every
   // point on the highest surface under it
   const bool measured = Measures(params, contact.blob);
-  bool raycast = params.placement == Placement::kRaycast ||
-                 (params.placement == Placement::kAuto && !measured);
+  // a contact without heights cannot be measured: auto and measured raycast it
+  bool raycast = params.placement != Placement::kGround && !measured;
   if (!raycast && !measured) {
     double deepest = 0.0;
     for (int j = 0; j < m; ++j) {
