@@ -518,19 +518,10 @@ void LayeredWorld::Impl::PlaceMeasured(ParticleData& p, const Vec2& pos) {
     // an object's footprint through its side (it collides with it there), so a base over a
     // footprint came down onto it from above, and a reading below that top (the finger pressing
     // into a virtual object) rests on it rather than hovering inside its slices
-    int below = kNoObject;
-    double belowHeight = 0.0;
-    if (K > 1) {
-      for (int oi = 0; oi < static_cast<int>(objects.size()); ++oi) {
-        const ObjectData& o = objects[oi];
-        if (!o.MayHold(pos)) continue;
-        const double h = SurfaceHeightAt(o.spec, o.ToLocal(pos));
-        if (h < 0.0 || h <= belowHeight) continue;
-        below = oi;
-        belowHeight = h;
-      }
-    }
-    const int belowLayer = below == kNoObject ? 0 : SupportLayer(below, belowHeight);
+    int belowLayer;
+    double belowHeight;
+    ObjectId below;
+    FindSupport(pos, K - 1, &belowLayer, &belowHeight, &below);
     if (m <= belowHeight + margin) {
       layer = belowLayer;
       height = belowHeight;
@@ -633,8 +624,8 @@ void LayeredWorld::Impl::UpdateSpin() {
   // A particle created this frame moves from where it was placed to its target: that is no
   // motion of the finger (placed beside a face, its target inside), and it is left out of the fit
   for (const ParticleData& p : particles) {
-    Sums& s = sumsOf(p.finger);
     if (p.born) continue;
+    Sums& s = sumsOf(p.finger);
     s.from += p.prevTarget;
     s.to += p.target;
     ++s.count;

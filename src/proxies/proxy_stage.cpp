@@ -28,11 +28,10 @@ int NearestKept(const std::vector<int>& pred, int j) {
   return -1;
 }
 
-// the principal axis of a contour's points, rad, and its elongation sqrt(l1 / l2) >= 1
 // whether a contact's particles take their heights from its measurements
 bool Measures(const ProxyParams& params, const Blob& blob) {
   const bool any = !blob.heights.empty() && blob.heights.size() == size_t(blob.contour.cols());
-  return any && (params.placement == Placement::kMeasured || params.placement == Placement::kAuto);
+  return any && MeasuresHeights(params.placement);
 }
 
 // the underside of the finger at contour point j of a blob with heights: the median of the
@@ -77,6 +76,7 @@ int NearestPoint(const Contour& contour, const Vec2& p, int hint, double near) {
   return best;
 }
 
+// the principal axis of a contour's points, rad, and its elongation sqrt(l1 / l2) >= 1
 double PrincipalAxis(const Contour& c, const Vec2& centre, double* elongation) {
   double xx = 0.0, yy = 0.0, xy = 0.0;
   for (Eigen::Index i = 0; i < c.cols(); ++i) {
@@ -284,7 +284,7 @@ void ProxyStage::MeasureHeights(const ProxyParams& params, const ContactSet& con
       blob = it != blobs.end() ? it->second : nullptr;
       hint = 0;
     }
-    if (blob == nullptr || blob->contour.cols() == 0) {
+    if (blob == nullptr) {  // Measures: a measured blob has a point per height, and some
       m_measured.erase(p.id);
       continue;
     }

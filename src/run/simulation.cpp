@@ -206,10 +206,8 @@ void Simulation::ProcessContours(FrameStats& stats, double senseMs, const Contac
   // measured placement: the regions a depth camera sees above the touch band are tracked too,
   // so that hovering fingers and hands have particles at their heights (docs/proxies.md,
   // "Measured heights"); `sense` (tracking alone) tracks the touches only
-  const Placement placement = m_params.proxies.placement;
   const bool trackHover = !tracked && m_options.stages == RunStages::kAll && !instant &&
-                          !m_contours.hover.empty() &&
-                          (placement == Placement::kMeasured || placement == Placement::kAuto);
+                          !m_contours.hover.empty() && MeasuresHeights(m_params.proxies.placement);
   if (tracked) {
     m_contacts = *tracked;
   } else if (trackHover) {
@@ -217,7 +215,7 @@ void Simulation::ProcessContours(FrameStats& stats, double senseMs, const Contac
     all.index = m_contours.index;
     all.time = m_contours.time;
     all.blobs.reserve(m_contours.blobs.size() + m_contours.hover.size());
-    all.blobs = m_contours.blobs;
+    all.blobs.insert(all.blobs.end(), m_contours.blobs.begin(), m_contours.blobs.end());
     all.blobs.insert(all.blobs.end(), m_contours.hover.begin(), m_contours.hover.end());
     m_contacts = m_tracker.Step(all);
   } else {

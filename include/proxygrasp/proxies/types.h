@@ -29,6 +29,11 @@ inline constexpr const char* kMatchAlgorithmNames[] = {"reference", "fast", "win
 enum class Placement { kRaycast, kGround, kMeasured, kAuto };
 inline constexpr const char* kPlacementNames[] = {"raycast", "ground", "measured", "auto"};
 
+/// Whether a placement takes a contact's heights where it has them (measured and auto).
+inline bool MeasuresHeights(Placement p) {
+  return p == Placement::kMeasured || p == Placement::kAuto;
+}
+
 /// Parameters of the proxies stage. Section [proxies] of a level.
 struct ProxyParams {
   ProxyMode mode = ProxyMode::kPersistent;
