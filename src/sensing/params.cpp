@@ -72,6 +72,12 @@ void Describe(SensingParams& p, ParamVisitor& v) {
          "for this long after the warm-up, an estimated background comes down fast where the "
          "frame is darker by more than 3 noise deviations (a hand that lay there at the start "
          "has moved), never below the first frame's spatial estimate; 0 = not at all");
+  v.Real("background_still", p.backgroundStill, 0, 60, "s",
+         "within background_settle: a bright region the warm-up took in comes out of the "
+         "background, the whole of it, once part of it shows the table (a hand that lay still "
+         "has started to move); what is held out goes back in once its region has not moved for "
+         "this long and no contact joins it to clear table (a bright mark the hand lay on); "
+         "0 = not at all");
   v.Boolean("stills", p.stills,
             "each frame on its own (a folder of unrelated images, a photo): the background is "
             "the frame's spatial estimate alone, nothing is learned between frames, and the "

@@ -217,6 +217,7 @@ void Sensor::ForgetLearned() {
   m_spatial.release();
   m_lowMean.release();
   m_lowest.release();
+  m_stillState.release();
   m_captureSum.release();
   m_captured = 0;
   m_noise = -1.0;
@@ -283,6 +284,9 @@ Result<ContourFrame> Sensor::Step(const cv::Mat& frame, int64_t index, double ti
     m_warmup = true;
   }
   const double frameDt = m_haveTime ? time - m_lastTime : 0.0;
+  // before this frame is filtered: a hand that lay still through the warm-up and starts to move
+  // now is a contact in this frame
+  if (!m_stillState.empty() && frameDt > 0.0) TrackStillRegions(time, frameDt);
   if (m_params.thresholdMode == ThresholdMode::kAdaptive) MeasureNoise(frameDt);
 
   // The adaptive level: a fraction of the brightest fingertip-like touch the table has shown
@@ -776,18 +780,230 @@ void Sensor::FinishWarmup() {
     const float* low = m_lowest.ptr<float>(y);
     for (int x = 4; x < m_lowest.cols; x += 8) offsets.push_back(mean[x] - low[x]);
   }
+  m_lowOffset = 0.0f;
   if (!offsets.empty()) {
     std::nth_element(offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end());
-    m_lowest += offsets[offsets.size() / 2];
+    m_lowOffset = offsets[offsets.size() / 2];
+    m_lowest += m_lowOffset;
   }
   const double kRounding = std::sqrt(2.0 / 12.0);
-  const double margin = 2.0 * std::max(m_noise, kRounding);
+  const double noise = std::max(m_noise, kRounding);
   cv::Mat floor;
-  m_spatial.convertTo(floor, CV_32F, 1.0, -margin);
+  m_spatial.convertTo(floor, CV_32F, 1.0, -2.0 * noise);
   cv::max(m_lowest, floor, m_learned);
   m_learned.convertTo(m_background, CV_8UC1);
+
+  // What the warm-up took in that is bright against the spatial estimate is either the table's
+  // own (a hot spot, a bright mark) or a hand that lay still through it: kept apart for the
+  // settling (TrackStillRegions). Bright: 3 noise deviations above the estimate (the running
+  // mean's own noise is a third of the camera's, so noise alone is 9 of its deviations off) and
+  // at least a grey level; with a fixed level, half of it (the noise is not measured then).
+  m_stillState.release();
+  if (m_params.backgroundSettle > 0.0 && m_params.backgroundStill > 0.0) {
+    const bool adaptive = m_params.thresholdMode == ThresholdMode::kAdaptive && m_noise >= 0.0;
+    m_brightMargin = static_cast<float>(
+        adaptive ? std::max(3.0 * noise, 1.0)
+                 : std::max(1.0, 0.5 * m_params.threshold / std::max(1e-6, m_params.gain)));
+    cv::Mat raised, bright;
+    m_spatial.convertTo(raised, CV_32F, 1.0, m_brightMargin);
+    cv::compare(m_lowest, raised, bright, cv::CMP_GT);
+    m_brightRect = cv::boundingRect(bright);
+    if (m_brightRect.area() > 0) {
+      bright(m_brightRect).copyTo(m_stillState);
+      m_stillState &= kStillIn;
+      m_lowMean(m_brightRect).copyTo(m_stillMean);
+      m_lowest(m_brightRect).copyTo(m_stillLow);
+      m_movedTime = cv::Mat::zeros(m_brightRect.size(), CV_32F);
+      m_stillOut = false;
+    }
+  }
   m_lowMean.release();
   m_lowest.release();
+}
+
+void Sensor::TrackStillRegions(double time, double dt) {
+  // A region the warm-up took in comes out of the background as a whole once part of it shows
+  // the table (enough of its pixels darker than the background by 3 noise deviations, the
+  // darkest by twice the bright margin or more: a hand that lay still at the start has begun to
+  // move): the
+  // background under it goes back to the table's level (the spatial estimate, raised by what
+  // the table that showed reads above it), so the part of the hand that still covers where it
+  // lay is a contact again, not only the part that moved onto clear table. Pixels brighter than
+  // the table by half again the hand's contrast stay in (a hot spot the palm lay on). Held out,
+  // each pixel keeps its running low; where that comes down to the table it is table again.
+  // What is held out goes back in once its region has not moved for background_still and no
+  // contact joins it to clear table (a bright mark of the table the hand lay on; a hand that
+  // has moved stays out, whatever it covers of where it lay). After background_settle the
+  // tracking ends: what is still held out and joined stays so, the rest goes in.
+  const double since = time - m_startTime;
+  const cv::Rect rect = m_brightRect;
+  const double kRounding = std::sqrt(2.0 / 12.0);
+  const float noise = static_cast<float>(std::max(m_noise, kRounding));
+  const float margin = m_brightMargin;
+  const float now = static_cast<float>(since);
+  const float still = static_cast<float>(m_params.backgroundStill);
+  const bool last = since > m_params.backgroundWarmup + m_params.backgroundSettle;
+  const double alpha = 1.0 - std::exp(-dt / std::max(1e-3, m_params.backgroundWarmup / 3.0));
+  cv::accumulateWeighted(m_grey(rect), m_stillMean, alpha);
+
+  // Held-out pixels in a contact (the last frame's) that also covers clear table: their time
+  // starts again. m_shown marks them until the loop below reads them.
+  m_shown.create(rect.size(), CV_8UC1);
+  m_shown.setTo(0);
+  if (m_stillOut) {
+    // clear table inside the contact, 2 px in from its edge: the smoothing spreads any contact
+    // a pixel or two over the table round it, a phantom's too
+    const int n = cv::connectedComponents(m_binary(rect), m_labels, 8, CV_32S);
+    cv::erode(m_binary(rect), m_still, cv::Mat(), cv::Point(-1, -1), 2);
+    m_shownCount.assign(static_cast<size_t>(n), 0);
+    for (int y = 0; y < rect.height; ++y) {
+      const int* label = m_labels.ptr<int>(y);
+      const uint8_t* state = m_stillState.ptr<uint8_t>(y);
+      const uint8_t* inside = m_still.ptr<uint8_t>(y);
+      for (int x = 0; x < rect.width; ++x)
+        if (state[x] == kStillNone && inside[x] != 0)
+          m_shownCount[static_cast<size_t>(label[x])] = 1;
+    }
+    m_shownCount[0] = 0;  // no contact
+    for (int y = 0; y < rect.height; ++y) {
+      const int* label = m_labels.ptr<int>(y);
+      const uint8_t* state = m_stillState.ptr<uint8_t>(y);
+      uint8_t* joined = m_shown.ptr<uint8_t>(y);
+      float* moved = m_movedTime.ptr<float>(y);
+      for (int x = 0; x < rect.width; ++x) {
+        if (state[x] != kStillOut || m_shownCount[static_cast<size_t>(label[x])] == 0) continue;
+        joined[x] = 1;
+        moved[x] = now;
+      }
+    }
+  }
+
+  // Each pixel: in, does it show the table; out, is it table, or back in.
+  bool anyShown = false, anyOut = false;
+  for (int y = 0; y < rect.height; ++y) {
+    uint8_t* state = m_stillState.ptr<uint8_t>(y);
+    uint8_t* shown = m_shown.ptr<uint8_t>(y);
+    const float* mean = m_stillMean.ptr<float>(y);
+    const uint8_t* grey = m_grey.ptr<uint8_t>(y + rect.y) + rect.x;
+    float* low = m_stillLow.ptr<float>(y);
+    const float* moved = m_movedTime.ptr<float>(y);
+    const uint8_t* sp = m_spatial.ptr<uint8_t>(y + rect.y) + rect.x;
+    float* b = m_learned.ptr<float>(y + rect.y) + rect.x;
+    for (int x = 0; x < rect.width; ++x) {
+      const bool joined = shown[x] != 0;
+      shown[x] = 0;
+      if (state[x] == kStillIn) {
+        const float darker = b[x] - grey[x];
+        shown[x] = darker > 3.0f * noise ? 1 : 0;
+      } else if (state[x] == kStillOut) {
+        low[x] = std::min(low[x], mean[x]);
+        if (low[x] <= sp[x] + margin) {
+          // the table shows here: it is table, at its low (never above the bright margin)
+          state[x] = kStillNone;
+          b[x] = std::max(sp[x] - 2.0f * noise, std::min(low[x] + m_lowOffset, sp[x] + margin));
+          shown[x] = 1;
+        } else if (!joined && (last || now - moved[x] >= still)) {
+          state[x] = kStillIn;
+          b[x] = std::max(b[x], low[x] + m_lowOffset);
+        }
+      }
+      anyShown = anyShown || shown[x] != 0;
+      anyOut = anyOut || state[x] == kStillOut;
+    }
+  }
+
+  if (anyShown && !last) {
+    // The regions (8-connected, with the pixels that showed the table this frame), how many of
+    // each showed it, by how much it came down and the table's level there. A region has moved
+    // when enough of it showed the table (a few pixels are the noise of a soft edge, whose
+    // running low creeps down) by twice the bright margin (a compressed video's blocks show
+    // 5 deviations at times; a hand is brighter than that to be a contact at all).
+    m_shown.copyTo(m_still);
+    for (int y = 0; y < rect.height; ++y) {
+      uint8_t* u = m_still.ptr<uint8_t>(y);
+      const uint8_t* state = m_stillState.ptr<uint8_t>(y);
+      for (int x = 0; x < rect.width; ++x) u[x] = (u[x] != 0 || state[x] != kStillNone) ? 1 : 0;
+    }
+    const int n =
+        cv::connectedComponentsWithStats(m_still, m_labels, m_stats, m_centroids, 8, CV_32S);
+    m_shownCount.assign(static_cast<size_t>(n), 0);
+    m_shownContrast.assign(static_cast<size_t>(n), 0.0f);
+    m_shownTable.assign(static_cast<size_t>(n), 0.0f);
+    m_shownIn.assign(static_cast<size_t>(n), 0);
+    for (int y = 0; y < rect.height; ++y) {
+      const int* label = m_labels.ptr<int>(y);
+      const uint8_t* shown = m_shown.ptr<uint8_t>(y);
+      const uint8_t* state = m_stillState.ptr<uint8_t>(y);
+      const uint8_t* grey = m_grey.ptr<uint8_t>(y + rect.y) + rect.x;
+      const uint8_t* sp = m_spatial.ptr<uint8_t>(y + rect.y) + rect.x;
+      const float* b = m_learned.ptr<float>(y + rect.y) + rect.x;
+      for (int x = 0; x < rect.width; ++x) {
+        if (shown[x] == 0) continue;
+        const size_t k = static_cast<size_t>(label[x]);
+        ++m_shownCount[k];
+        if (state[x] != kStillIn) continue;
+        m_shownContrast[k] = std::max(m_shownContrast[k], b[x] - grey[x]);
+        m_shownTable[k] += static_cast<float>(grey[x] - sp[x]);
+        ++m_shownIn[k];
+      }
+    }
+    bool anyMoved = false;
+    for (size_t k = 1; k < static_cast<size_t>(n); ++k) {
+      const int area = m_stats.at<int>(static_cast<int>(k), cv::CC_STAT_AREA);
+      const bool movedNow =
+          m_shownCount[k] >= 4 + area / 200 && m_shownContrast[k] >= 2.0f * margin;
+      m_shownCount[k] = movedNow ? 1 : 0;
+      anyMoved = anyMoved || movedNow;
+      // where the table showed, its level against the spatial estimate (which the hand-wide
+      // opening biases low beside bright things): the region is held out at that level
+      const float table = m_shownTable[k] / static_cast<float>(std::max(1, m_shownIn[k]));
+      m_shownTable[k] = std::clamp(table, -2.0f * noise, margin);
+    }
+    for (int y = 0; anyMoved && y < rect.height; ++y) {
+      const int* label = m_labels.ptr<int>(y);
+      uint8_t* state = m_stillState.ptr<uint8_t>(y);
+      float* low = m_stillLow.ptr<float>(y);
+      const float* mean = m_stillMean.ptr<float>(y);
+      float* moved = m_movedTime.ptr<float>(y);
+      const uint8_t* sp = m_spatial.ptr<uint8_t>(y + rect.y) + rect.x;
+      float* b = m_learned.ptr<float>(y + rect.y) + rect.x;
+      for (int x = 0; x < rect.width; ++x) {
+        const size_t k = static_cast<size_t>(label[x]);
+        if (state[x] == kStillNone || m_shownCount[k] == 0) continue;
+        if (state[x] == kStillIn && m_shown.ptr<uint8_t>(y)[x] != 0) {
+          // it showed the table: held out where it is, it is table from the next frame on
+          state[x] = kStillOut;
+          low[x] = mean[x];
+          anyOut = true;
+          moved[x] = now;
+          continue;
+        }
+        // What moved is as bright as the table it showed is darker. A pixel brighter than that
+        // by half again is something else under it (a hot spot a palm lay on), and one less
+        // than half as bright is the table's own pattern, which the spatial estimate misses:
+        // both stay in.
+        const float excess = b[x] - sp[x];
+        if (state[x] == kStillIn && (excess > 1.5f * m_shownContrast[k] + 3.0f * noise ||
+                                     excess < 0.5f * m_shownContrast[k]))
+          continue;
+        if (state[x] == kStillIn) {
+          state[x] = kStillOut;
+          low[x] = mean[x];
+          b[x] = std::min(b[x], sp[x] + m_shownTable[k]);
+          anyOut = true;
+        }
+        moved[x] = now;
+      }
+    }
+  }
+  m_stillOut = anyOut;
+  m_learned(rect).convertTo(m_background(rect), CV_8UC1);
+  if (last) {
+    m_stillState.release();
+    m_stillMean.release();
+    m_stillLow.release();
+    m_movedTime.release();
+  }
 }
 
 void Sensor::SettleDark(int r0, int r1, double bandDt) {

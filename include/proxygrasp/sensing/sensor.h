@@ -128,6 +128,9 @@ class Sensor {
   // the first seconds after the warm-up: where the frame is darker than the background (a hand
   // that lay there at the start has moved), the band of rows r0..r1 comes down to it fast
   void SettleDark(int r0, int r1, double bandDt);
+  // the first seconds after the warm-up: the bright regions it took in, each brought out whole
+  // once part of it shows the table, and taken in again once still (background_still)
+  void TrackStillRegions(double time, double dt);
   double PixelsPerCm() const;
 
   SensingParams m_params;
@@ -145,6 +148,26 @@ class Sensor {
   cv::Mat m_lowMean, m_lowest;
   double m_startTime = 0.0;  // s, the time of the frame the background was estimated from
   cv::Mat m_learned;         // CV_32F, the background being learned
+  // after the warm-up, while it settles (TrackStillRegions), over m_brightRect: each pixel of a
+  // region the warm-up found bright against the spatial estimate is kStillIn (in the background)
+  // or kStillOut (held out at the spatial estimate, its running low kept); the running mean, that
+  // low, when each held-out pixel's region last moved, and the offset of a running low below
+  // its mean (the warm-up's)
+  enum : uint8_t { kStillNone = 0, kStillIn = 1, kStillOut = 2 };
+  cv::Rect m_brightRect;
+  cv::Mat m_stillState;             // CV_8UC1
+  cv::Mat m_stillMean, m_stillLow;  // CV_32F
+  cv::Mat m_movedTime;              // CV_32F, s since m_startTime
+  cv::Mat m_shown;                  // CV_8UC1 scratch: pixels that showed the table this frame
+  cv::Mat m_labels, m_stats, m_centroids;  // scratch of the regions' labelling
+  std::vector<int> m_shownCount;           // per region: pixels that showed the table
+  std::vector<float> m_shownContrast;      // per region: the most they came down by, grey
+  std::vector<float> m_shownTable;         // per region: the table they showed less the spatial
+                                           // estimate, grey (summed, then the mean)
+  std::vector<int> m_shownIn;              // per region: of them, those that were in
+  bool m_stillOut = false;                 // some pixel is held out
+  float m_lowOffset = 0.0f;
+  float m_brightMargin = 0.0f;  // grey above the spatial estimate that makes a pixel bright
   double m_lastTime = 0.0;
   double m_learnedTime = 0.0;  // s of frames learned since the background was seeded
   bool m_warmup = false;       // the background is an estimate: warm it up

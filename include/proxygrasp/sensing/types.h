@@ -97,7 +97,9 @@ struct SensingParams {
   int backgroundFrames = 0;       ///< frames averaged into the background at start (0 = estimate)
   double backgroundWarmup = 0.2;  ///< time an estimated background takes its per-pixel low, s
   bool stills = false;  ///< each frame on its own: spatial background, level from the frame
-  double backgroundSettle = 5.0;     ///< time after the warm-up a darker frame is learned fast, s
+  double backgroundSettle = 5.0;  ///< time after the warm-up a darker frame is learned fast, s
+  double backgroundStill =
+      0.5;  ///< a region there from the start that moved: held out until still, s
   double backgroundLearning = 10.0;  ///< learned background's time constant, s (0 = frozen)
   double touchLearning = 300.0;  ///< the background's time constant under contacts, s (0 = never)
   double smooth = 0.0;           ///< Gaussian smoothing deviation, cm (0 = none)
