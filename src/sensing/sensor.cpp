@@ -384,12 +384,16 @@ double Sensor::PixelsPerCm() const {
 }
 
 double Sensor::AdaptiveLevel(double brightest) const {
+  const double noise = NoiseDeviation();
+  return std::min(m_params.threshold, std::max(m_params.gain * m_params.noiseFactor * noise,
+                                               m_params.contrastFraction * brightest));
+}
+
+double Sensor::NoiseDeviation() const {
   // An 8-bit camera's noise is never below the rounding of frame and background to whole grey
   // levels (uniform, variance 1/12 each), even where the measured median is 0 (a noiseless image).
   const double kRounding = std::sqrt(2.0 / 12.0);
-  const double noise = std::max(m_noise, kRounding);
-  return std::min(m_params.threshold, std::max(m_params.gain * m_params.noiseFactor * noise,
-                                               m_params.contrastFraction * brightest));
+  return std::max(m_noise, kRounding);
 }
 
 bool Sensor::WarmingUp() const {
@@ -786,8 +790,7 @@ void Sensor::FinishWarmup() {
     m_lowOffset = offsets[offsets.size() / 2];
     m_lowest += m_lowOffset;
   }
-  const double kRounding = std::sqrt(2.0 / 12.0);
-  const double noise = std::max(m_noise, kRounding);
+  const double noise = NoiseDeviation();
   cv::Mat floor;
   m_spatial.convertTo(floor, CV_32F, 1.0, -2.0 * noise);
   cv::max(m_lowest, floor, m_learned);
@@ -837,8 +840,7 @@ void Sensor::TrackStillRegions(double time, double dt) {
   // tracking ends: what is still held out and joined stays so, the rest goes in.
   const double since = time - m_startTime;
   const cv::Rect rect = m_brightRect;
-  const double kRounding = std::sqrt(2.0 / 12.0);
-  const float noise = static_cast<float>(std::max(m_noise, kRounding));
+  const float noise = static_cast<float>(NoiseDeviation());
   const float margin = m_brightMargin;
   const float now = static_cast<float>(since);
   const float still = static_cast<float>(m_params.backgroundStill);
@@ -855,23 +857,23 @@ void Sensor::TrackStillRegions(double time, double dt) {
     // a pixel or two over the table round it, a phantom's too
     const int n = cv::connectedComponents(m_binary(rect), m_labels, 8, CV_32S);
     cv::erode(m_binary(rect), m_still, cv::Mat(), cv::Point(-1, -1), 2);
-    m_shownCount.assign(static_cast<size_t>(n), 0);
+    m_regionFlags.assign(static_cast<size_t>(n), 0);  // per contact: it covers clear table
     for (int y = 0; y < rect.height; ++y) {
       const int* label = m_labels.ptr<int>(y);
       const uint8_t* state = m_stillState.ptr<uint8_t>(y);
       const uint8_t* inside = m_still.ptr<uint8_t>(y);
       for (int x = 0; x < rect.width; ++x)
         if (state[x] == kStillNone && inside[x] != 0)
-          m_shownCount[static_cast<size_t>(label[x])] = 1;
+          m_regionFlags[static_cast<size_t>(label[x])] = 1;
     }
-    m_shownCount[0] = 0;  // no contact
+    m_regionFlags[0] = 0;  // no contact
     for (int y = 0; y < rect.height; ++y) {
       const int* label = m_labels.ptr<int>(y);
       const uint8_t* state = m_stillState.ptr<uint8_t>(y);
       uint8_t* joined = m_shown.ptr<uint8_t>(y);
       float* moved = m_movedTime.ptr<float>(y);
       for (int x = 0; x < rect.width; ++x) {
-        if (state[x] != kStillOut || m_shownCount[static_cast<size_t>(label[x])] == 0) continue;
+        if (state[x] != kStillOut || m_regionFlags[static_cast<size_t>(label[x])] == 0) continue;
         joined[x] = 1;
         moved[x] = now;
       }
@@ -879,7 +881,7 @@ void Sensor::TrackStillRegions(double time, double dt) {
   }
 
   // Each pixel: in, does it show the table; out, is it table, or back in.
-  bool anyShown = false, anyOut = false;
+  bool anyShown = false, anyOut = false, changed = false;
   for (int y = 0; y < rect.height; ++y) {
     uint8_t* state = m_stillState.ptr<uint8_t>(y);
     uint8_t* shown = m_shown.ptr<uint8_t>(y);
@@ -902,9 +904,11 @@ void Sensor::TrackStillRegions(double time, double dt) {
           state[x] = kStillNone;
           b[x] = std::max(sp[x] - 2.0f * noise, std::min(low[x] + m_lowOffset, sp[x] + margin));
           shown[x] = 1;
+          changed = true;
         } else if (!joined && (last || now - moved[x] >= still)) {
           state[x] = kStillIn;
           b[x] = std::max(b[x], low[x] + m_lowOffset);
+          changed = true;
         }
       }
       anyShown = anyShown || shown[x] != 0;
@@ -930,6 +934,7 @@ void Sensor::TrackStillRegions(double time, double dt) {
     m_shownContrast.assign(static_cast<size_t>(n), 0.0f);
     m_shownTable.assign(static_cast<size_t>(n), 0.0f);
     m_shownIn.assign(static_cast<size_t>(n), 0);
+    m_regionFlags.assign(static_cast<size_t>(n), 0);  // per region: it has moved
     for (int y = 0; y < rect.height; ++y) {
       const int* label = m_labels.ptr<int>(y);
       const uint8_t* shown = m_shown.ptr<uint8_t>(y);
@@ -952,7 +957,7 @@ void Sensor::TrackStillRegions(double time, double dt) {
       const int area = m_stats.at<int>(static_cast<int>(k), cv::CC_STAT_AREA);
       const bool movedNow =
           m_shownCount[k] >= 4 + area / 200 && m_shownContrast[k] >= 2.0f * margin;
-      m_shownCount[k] = movedNow ? 1 : 0;
+      m_regionFlags[k] = movedNow ? 1 : 0;
       anyMoved = anyMoved || movedNow;
       // where the table showed, its level against the spatial estimate (which the hand-wide
       // opening biases low beside bright things): the region is held out at that level
@@ -965,12 +970,13 @@ void Sensor::TrackStillRegions(double time, double dt) {
       float* low = m_stillLow.ptr<float>(y);
       const float* mean = m_stillMean.ptr<float>(y);
       float* moved = m_movedTime.ptr<float>(y);
+      const uint8_t* shown = m_shown.ptr<uint8_t>(y);
       const uint8_t* sp = m_spatial.ptr<uint8_t>(y + rect.y) + rect.x;
       float* b = m_learned.ptr<float>(y + rect.y) + rect.x;
       for (int x = 0; x < rect.width; ++x) {
         const size_t k = static_cast<size_t>(label[x]);
-        if (state[x] == kStillNone || m_shownCount[k] == 0) continue;
-        if (state[x] == kStillIn && m_shown.ptr<uint8_t>(y)[x] != 0) {
+        if (state[x] == kStillNone || m_regionFlags[k] == 0) continue;
+        if (state[x] == kStillIn && shown[x] != 0) {
           // it showed the table: held out where it is, it is table from the next frame on
           state[x] = kStillOut;
           low[x] = mean[x];
@@ -991,13 +997,14 @@ void Sensor::TrackStillRegions(double time, double dt) {
           low[x] = mean[x];
           b[x] = std::min(b[x], sp[x] + m_shownTable[k]);
           anyOut = true;
+          changed = true;
         }
         moved[x] = now;
       }
     }
   }
   m_stillOut = anyOut;
-  m_learned(rect).convertTo(m_background(rect), CV_8UC1);
+  if (changed) m_learned(rect).convertTo(m_background(rect), CV_8UC1);
   if (last) {
     m_stillState.release();
     m_stillMean.release();
@@ -1017,8 +1024,7 @@ void Sensor::SettleDark(int r0, int r1, double bandDt) {
   if (m_spatial.empty() || !(m_params.backgroundSettle > 0.0) || !m_lowest.empty()) return;
   if (m_lastTime - m_startTime > m_params.backgroundWarmup + m_params.backgroundSettle) return;
   constexpr double kDarkTime = 0.25;  // s
-  const double kRounding = std::sqrt(2.0 / 12.0);
-  const float noise = static_cast<float>(std::max(m_noise, kRounding));
+  const float noise = static_cast<float>(NoiseDeviation());
   const float alpha = static_cast<float>(1.0 - std::exp(-bandDt / kDarkTime));
   for (int y = r0; y < r1; ++y) {
     const uint8_t* g = m_grey.ptr<uint8_t>(y);

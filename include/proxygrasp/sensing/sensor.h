@@ -114,6 +114,8 @@ class Sensor {
   double AdaptiveLevel(double brightest) const;
   // the background is still being seeded or warmed up (the noise cannot be measured against it)
   bool WarmingUp() const;
+  // the camera noise's deviation (grey), never below the rounding of frame and background
+  double NoiseDeviation() const;
   // the camera noise's deviation in the frame just learned (threshold_mode "adaptive")
   void MeasureNoise(double dt);
   // the brightest fingertip-like touch above `level` (0 when none), where the filter worked
@@ -160,6 +162,7 @@ class Sensor {
   cv::Mat m_movedTime;              // CV_32F, s since m_startTime
   cv::Mat m_shown;                  // CV_8UC1 scratch: pixels that showed the table this frame
   cv::Mat m_labels, m_stats, m_centroids;  // scratch of the regions' labelling
+  std::vector<uint8_t> m_regionFlags;      // per region or contact: moved, or covers clear table
   std::vector<int> m_shownCount;           // per region: pixels that showed the table
   std::vector<float> m_shownContrast;      // per region: the most they came down by, grey
   std::vector<float> m_shownTable;         // per region: the table they showed less the spatial
