@@ -818,10 +818,141 @@ void Sensor::FinishWarmup() {
       m_lowest(m_brightRect).copyTo(m_stillLow);
       m_movedTime = cv::Mat::zeros(m_brightRect.size(), CV_32F);
       m_stillOut = false;
+      HoldOutHandLike();
     }
   }
   m_lowMean.release();
   m_lowest.release();
+}
+
+void Sensor::HoldOutHandLike() {
+  // A hand that lies still through the warm-up is taken in with the table's own bright things (a
+  // hot spot of the illuminator, a bezel, a mark). A hand is told from them by its shape: it
+  // ends in several fingertips. A piece of what was taken in that is hand-sized and holds 3
+  // fingertip ends is held out at once, as TrackStillRegions holds out a region that moved, so a
+  // hand resting at the start stays a contact; it goes back in after background_still unless it
+  // moves (the same rule as a region that moved: a hand-shaped mark of the table does not stay a
+  // contact).
+  // All on the warm-up's excess over the spatial estimate, its 3x3 mean, every other pixel:
+  // - a fingertip end is the highest within 0.75 cm (half a fingertip) to the bright margin (a
+  //   plateau's noise; the flank of a glow is not), at least twice the margin, and on a circle
+  //   3 cm across round it at least 9 of 16 points read under half of it with the others in one
+  //   arc: the finger goes on one way only. The middle of a finger, a bezel or a streak has two
+  //   arcs, a round spot (a hot spot, a lone mark) none, and a point on the edge of anything
+  //   wider than 3 cm (a palm, a glow) half of the circle;
+  // - of the ends in one region, those 1.5 cm apart (brightest first) are its fingertips, and
+  //   their median its contrast c;
+  // - the region's pixels within [c / 2, 1.5 c + 3 noise deviations] (what is brighter by more is
+  //   a hot spot under the hand, what is less than half as bright the table's pattern, and both
+  //   join a hand to the marks round it at the bright margin), 8-connected, are its pieces; a
+  //   piece is held out when it holds 3 of the fingertips and is the size of a hand: 15 cm^2 or
+  //   more (three fingers' last two segments as bright as their tips) and at most 25 cm across
+  //   (a spread hand is 20 to 23).
+  constexpr double kEndReachCm = 0.75, kRingCm = 1.5, kHandAreaCm2 = 15.0, kHandSpanCm = 25.0;
+  constexpr int kPoints = 16, kTableAtLeast = 9, kTipsAtLeast = 3;
+  const cv::Rect rect = m_brightRect;
+  const float margin = m_brightMargin;
+  const float noise = static_cast<float>(NoiseDeviation());
+  const double pxPerCm = PixelsPerCm();
+  cv::Mat spatial, excess, mean, highest;
+  m_spatial(rect).convertTo(spatial, CV_32F);
+  cv::subtract(m_lowest(rect), spatial, excess);
+  cv::blur(excess, mean, cv::Size(3, 3));
+  const int reach = std::max(1, static_cast<int>(std::lround(kEndReachCm * pxPerCm)));
+  cv::dilate(mean, highest,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * reach + 1, 2 * reach + 1)));
+  const int regions = cv::connectedComponents(m_stillState, m_labels, 8, CV_32S);
+  struct End {
+    float peak;
+    int x, y;
+  };
+  std::vector<std::vector<End>> ends(static_cast<size_t>(regions));
+  const double ring = kRingCm * pxPerCm;
+  for (int y = 0; y < rect.height; y += 2) {
+    const uint8_t* state = m_stillState.ptr<uint8_t>(y);
+    const float* m = mean.ptr<float>(y);
+    const float* h = highest.ptr<float>(y);
+    const int* label = m_labels.ptr<int>(y);
+    for (int x = 0; x < rect.width; x += 2) {
+      const float peak = m[x];
+      if (state[x] == kStillNone || peak < 2.0f * margin || peak < h[x] - margin) continue;
+      // the circle's points on the table (one beyond the image is not: what it cuts off goes
+      // on), and the arcs of the others
+      bool onTable[kPoints];
+      int table = 0;
+      for (int i = 0; i < kPoints; ++i) {
+        const double a = 2.0 * kPi * i / kPoints;
+        const int u = static_cast<int>(std::lround(x + rect.x + ring * std::cos(a)));
+        const int v = static_cast<int>(std::lround(y + rect.y + ring * std::sin(a)));
+        onTable[i] = u >= 0 && v >= 0 && u < m_lowest.cols && v < m_lowest.rows &&
+                     m_lowest.ptr<float>(v)[u] - m_spatial.ptr<uint8_t>(v)[u] < 0.5f * peak;
+        table += onTable[i] ? 1 : 0;
+      }
+      int arcs = 0;
+      for (int i = 0; i < kPoints; ++i) arcs += !onTable[i] && onTable[(i + 1) % kPoints] ? 1 : 0;
+      if (table >= kTableAtLeast && arcs == 1)
+        ends[static_cast<size_t>(label[x])].push_back({peak, x, y});
+    }
+  }
+  const float now = static_cast<float>(m_lastTime - m_startTime);
+  std::vector<End> tips;
+  std::vector<int> count;
+  cv::Mat part, pieceOf, stats, centroids;  // once a run: no members kept for them
+  for (size_t k = 1; k < ends.size(); ++k) {
+    std::vector<End>& e = ends[k];
+    if (e.size() < static_cast<size_t>(kTipsAtLeast)) continue;
+    std::sort(e.begin(), e.end(), [](const End& a, const End& b) { return a.peak > b.peak; });
+    tips.clear();
+    for (const End& t : e) {
+      bool apart = true;
+      for (const End& o : tips) apart = apart && std::hypot(t.x - o.x, t.y - o.y) >= ring;
+      if (apart) tips.push_back(t);
+    }
+    if (tips.size() < static_cast<size_t>(kTipsAtLeast)) continue;
+    const float c = tips[tips.size() / 2].peak;
+    const float lo = 0.5f * c, hi = 1.5f * c + 3.0f * noise;
+    part.create(rect.size(), CV_8UC1);
+    for (int y = 0; y < rect.height; ++y) {
+      const int* label = m_labels.ptr<int>(y);
+      const float* ex = excess.ptr<float>(y);
+      uint8_t* in = part.ptr<uint8_t>(y);
+      for (int x = 0; x < rect.width; ++x)
+        in[x] = static_cast<size_t>(label[x]) == k && ex[x] >= lo && ex[x] <= hi ? 1 : 0;
+    }
+    const int pieces = cv::connectedComponentsWithStats(part, pieceOf, stats, centroids, 8, CV_32S);
+    count.assign(static_cast<size_t>(pieces), 0);
+    for (const End& t : tips) ++count[static_cast<size_t>(pieceOf.at<int>(t.y, t.x))];
+    count[0] = 0;  // outside the pieces
+    bool any = false;
+    for (int q = 1; q < pieces; ++q) {
+      const double area = stats.at<int>(q, cv::CC_STAT_AREA) / (pxPerCm * pxPerCm);
+      const double span =
+          std::max(stats.at<int>(q, cv::CC_STAT_WIDTH), stats.at<int>(q, cv::CC_STAT_HEIGHT)) /
+          pxPerCm;
+      const bool hand = count[static_cast<size_t>(q)] >= kTipsAtLeast && area >= kHandAreaCm2 &&
+                        span <= kHandSpanCm;
+      count[static_cast<size_t>(q)] = hand ? 1 : 0;
+      any = any || hand;
+    }
+    for (int y = 0; any && y < rect.height; ++y) {
+      const int* piece = pieceOf.ptr<int>(y);
+      uint8_t* state = m_stillState.ptr<uint8_t>(y);
+      const float* lowMean = m_lowMean.ptr<float>(y + rect.y) + rect.x;
+      const uint8_t* sp = m_spatial.ptr<uint8_t>(y + rect.y) + rect.x;
+      float* b = m_learned.ptr<float>(y + rect.y) + rect.x;
+      float* low = m_stillLow.ptr<float>(y);
+      float* moved = m_movedTime.ptr<float>(y);
+      for (int x = 0; x < rect.width; ++x) {
+        if (count[static_cast<size_t>(piece[x])] == 0) continue;
+        state[x] = kStillOut;
+        low[x] = lowMean[x];
+        b[x] = std::min(b[x], static_cast<float>(sp[x]));
+        moved[x] = now;
+        m_stillOut = true;
+      }
+    }
+  }
+  if (m_stillOut) m_learned(rect).convertTo(m_background(rect), CV_8UC1);
 }
 
 void Sensor::TrackStillRegions(double time, double dt) {

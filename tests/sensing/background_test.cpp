@@ -65,53 +65,76 @@ bool Covered(const ContourFrame& f, Vec2 p) {
 }
 
 // Hands down at the start (a flat hand and a five-finger hand on the table from the first frame),
-// lying still for 0.5 s, then sliding away at 10 cm/s: each is found from the first frame. The
-// warm-up (0.2 s) takes them in, as it does a hot spot: lying still, they cannot be told from
-// one. From the frame they start to move (0.5 s) each is found whole again, its centre too,
-// though that still lies where the hand lay (TrackStillRegions): the frames missed are those of
-// (0.2, 0.5] s alone, 18 a hand.
+// lying still for 0.5 s, then sliding away at `speed`, to 2.5 s: the frames each hand's centre is
+// in no contact, from 0.2 s on, and the contacts off both hands.
+struct HandsDown {
+  int firstFlat = -1, firstFive = -1;  // the first frame each is found
+  int missed = 0;                      // hand-frames missed after 0.2 s
+  int phantoms = 0;
+};
+HandsDown RunHandsDown(int seed, double speed, int frames) {
+  SyntheticCameraParams p;
+  p.seed = seed;
+  Start s(p);
+  HandsDown h;
+  const Vec2 flat0(18.0, 20.0), five0(40.0, 20.0);
+  for (int i = 0; i < frames; ++i) {
+    const double t = i / 60.0;
+    const double shift = std::max(0.0, t - 0.5) * speed;  // cm
+    ContactShape flat = Shape(ShapeKind::kHandFlat, flat0 + Vec2(shift, 0.0));
+    ContactShape five = Shape(ShapeKind::kHandFive, five0 + Vec2(shift, 0.0));
+    flat.scale = five.scale = 0.8;
+    const ContactShape shapes[] = {flat, five};
+    Result<ContourFrame> r = s.sensor.Step(s.camera.Render(shapes), i, t);
+    EXPECT_TRUE(r) << r.error().Format();
+    if (!r) return h;
+    const bool flatSeen = Covered(r.value(), flat.pose.pos);
+    const bool fiveSeen = Covered(r.value(), five.pose.pos);
+    if (flatSeen && h.firstFlat < 0) h.firstFlat = i;
+    if (fiveSeen && h.firstFive < 0) h.firstFive = i;
+    if (t > 0.2) h.missed += (flatSeen ? 0 : 1) + (fiveSeen ? 0 : 1);
+    for (const Blob& b : r.value().blobs)
+      h.phantoms += ShapeDistance(flat, b.centroid) > 1.0 && ShapeDistance(five, b.centroid) > 1.0;
+  }
+  return h;
+}
+
+// Hands down at the start, still for 0.5 s, then sliding away at 10 cm/s: each is found from the
+// first frame, against the spatial estimate. The warm-up (0.2 s) takes them in as it does a hot
+// spot, but each ends in fingertips (HoldOutHandLike: the five-finger hand's five, the flat
+// hand's finger ends and thumb, 3 or more 1.5 cm apart, each a hand-sized piece): held out from
+// the frame after the warm-up, each stays a contact while it lies still (to 0.7 s, the warm-up
+// and background_still) and from 0.5 s its motion keeps it out (TrackStillRegions), its centre
+// too, which still lies where it lay. So no frame misses either: 0 of the 2 x 138 hand-frames
+// after 0.2 s. Before the fingertips were looked for, the 36 of (0.2, 0.5] s were missed.
 TEST(FirstFrames, HandsDownAtTheStartAreFoundAtOnce) {
   for (int seed = 1; seed <= kLastSeed; ++seed) {
-    SyntheticCameraParams p;
-    p.seed = seed;
-    Start s(p);
-    const Vec2 flat0(18.0, 20.0), five0(40.0, 20.0);
-    int firstFlat = -1, firstFive = -1, missedMoving = 0, movingFrames = 0, phantoms = 0;
-    int missedEarly = 0;  // hand-frames missed from 0.2 to 1.5 s
-    for (int i = 0; i < 150; ++i) {
-      const double t = i / 60.0;
-      const double shift = std::max(0.0, t - 0.5) * 10.0;  // cm
-      ContactShape flat = Shape(ShapeKind::kHandFlat, flat0 + Vec2(shift, 0.0));
-      ContactShape five = Shape(ShapeKind::kHandFive, five0 + Vec2(shift, 0.0));
-      flat.scale = five.scale = 0.8;
-      const ContactShape shapes[] = {flat, five};
-      Result<ContourFrame> r = s.sensor.Step(s.camera.Render(shapes), i, t);
-      ASSERT_TRUE(r) << r.error().Format();
-      const bool flatSeen = Covered(r.value(), flat.pose.pos);
-      const bool fiveSeen = Covered(r.value(), five.pose.pos);
-      if (flatSeen && firstFlat < 0) firstFlat = i;
-      if (fiveSeen && firstFive < 0) firstFive = i;
-      if (t > 0.2 && t <= 1.5) missedEarly += (flatSeen ? 0 : 1) + (fiveSeen ? 0 : 1);
-      if (t > 1.5) {
-        movingFrames += 2;
-        missedMoving += (flatSeen ? 0 : 1) + (fiveSeen ? 0 : 1);
-      }
-      for (const Blob& b : r.value().blobs)
-        phantoms += ShapeDistance(flat, b.centroid) > 1.0 && ShapeDistance(five, b.centroid) > 1.0;
-    }
+    const HandsDown h = RunHandsDown(seed, 10.0, 150);
     std::printf(
-        "seed %d: flat hand first found at frame %d, five-finger hand at %d; 0.2 to 1.5 s: "
-        "%d of 156 missed; after 1.5 s %d of %d missed; %d contacts off the hands\n",
-        seed, firstFlat, firstFive, missedEarly, missedMoving, movingFrames, phantoms);
+        "seed %d: flat hand first found at frame %d, five-finger hand at %d; after 0.2 s %d of "
+        "276 hand-frames missed; %d contacts off the hands\n",
+        seed, h.firstFlat, h.firstFive, h.missed, h.phantoms);
     // "found within 0.2 s" (12 frames at 60 Hz)
-    EXPECT_GE(firstFlat, 0);
-    EXPECT_LE(firstFlat, 12);
-    EXPECT_GE(firstFive, 0);
-    EXPECT_LE(firstFive, 12);
-    // found on every frame from the one they start to move on
-    EXPECT_LE(missedEarly, 2 * 18) << "seed " << seed;
-    EXPECT_EQ(missedMoving, 0) << "seed " << seed;
-    EXPECT_EQ(phantoms, 0) << "seed " << seed;
+    EXPECT_GE(h.firstFlat, 0);
+    EXPECT_LE(h.firstFlat, 12);
+    EXPECT_GE(h.firstFive, 0);
+    EXPECT_LE(h.firstFive, 12);
+    EXPECT_EQ(h.missed, 0) << "seed " << seed;
+    EXPECT_EQ(h.phantoms, 0) << "seed " << seed;
+  }
+}
+
+// The same hands sliding away slowly, at 2 cm/s: a slow hand shows the table first only in its
+// blurred edge, where the region that moved read too little of the hand's contrast and kept
+// its inside in (84 to 151 of 212 hand-frames missed before the fingertips were looked for).
+// Held out from the warm-up with its fingertips' contrast, it is found on every frame.
+TEST(FirstFrames, SlowHandsDownAtTheStartAreFound) {
+  for (int seed = 1; seed <= kLastSeed; ++seed) {
+    const HandsDown h = RunHandsDown(seed, 2.0, 150);
+    std::printf("seed %d: after 0.2 s %d of 276 hand-frames missed; %d contacts off the hands\n",
+                seed, h.missed, h.phantoms);
+    EXPECT_EQ(h.missed, 0) << "seed " << seed;
+    EXPECT_EQ(h.phantoms, 0) << "seed " << seed;
   }
 }
 
@@ -156,6 +179,40 @@ TEST(FirstFrames, AHandThatMovedAndStoppedStaysFound) {
     }
     std::printf("seed %d: %d of %d frames from 0.5 s missed the hand; %d contacts off it\n", seed,
                 missed, frames, phantoms);
+    EXPECT_EQ(missed, 0) << "seed " << seed;
+    EXPECT_EQ(phantoms, 0) << "seed " << seed;
+  }
+}
+
+// A hand lying perfectly still from the start, with a hot spot beside it: the warm-up takes both
+// in; the hand ends in fingertips and is held out (HoldOutHandLike), the spot (a round glow, no
+// finger end on it) is not. So the hand is found on every frame until background_still (0.5 s)
+// after the warm-up (0.2 s), and the spot never. Then, not having moved, the hand goes back in as
+// any still region does (a hand-shaped mark of the table would otherwise stay a contact for good):
+// the limit docs/sensing.md names.
+TEST(FirstFrames, AStillHandIsFoundUntilBackgroundStill) {
+  for (int seed = 1; seed <= kLastSeed; ++seed) {
+    SyntheticCameraParams p;
+    p.seed = seed;
+    Start s(p);
+    const Vec2 spot(45.0, 25.0);
+    ContactShape five = Shape(ShapeKind::kHandFive, {20.0, 20.0});
+    five.scale = 0.9;
+    const ContactShape shapes[] = {five};
+    int missed = 0, phantoms = 0, lastFound = -1;
+    for (int i = 0; i < 90; ++i) {
+      const double t = i / 60.0;
+      Result<ContourFrame> r = s.sensor.Step(WithHotSpot(s, s.camera.Render(shapes), spot), i, t);
+      ASSERT_TRUE(r) << r.error().Format();
+      const bool seen = Covered(r.value(), five.pose.pos);
+      if (seen) lastFound = i;
+      if (t < 0.7 - 1e-9) missed += seen ? 0 : 1;
+      for (const Blob& b : r.value().blobs) phantoms += ShapeDistance(five, b.centroid) > 1.0;
+    }
+    std::printf(
+        "seed %d: %d of 42 frames to 0.7 s missed the hand, last found at frame %d; %d "
+        "contacts off it\n",
+        seed, missed, lastFound, phantoms);
     EXPECT_EQ(missed, 0) << "seed " << seed;
     EXPECT_EQ(phantoms, 0) << "seed " << seed;
   }

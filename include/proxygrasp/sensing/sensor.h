@@ -132,6 +132,7 @@ class Sensor {
   void SettleDark(int r0, int r1, double bandDt);
   // the first seconds after the warm-up: the bright regions it took in, each brought out whole
   // once part of it shows the table, and taken in again once still (background_still)
+  void HoldOutHandLike();
   void TrackStillRegions(double time, double dt);
   double PixelsPerCm() const;
 
