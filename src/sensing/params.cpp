@@ -75,9 +75,10 @@ void Describe(SensingParams& p, ParamVisitor& v) {
   v.Real("background_still", p.backgroundStill, 0, 60, "s",
          "within background_settle: a bright region the warm-up took in comes out of the "
          "background, the whole of it, once part of it shows the table (a hand that lay still "
-         "has started to move); what is held out goes back in once its region has not moved for "
-         "this long and no contact joins it to clear table (a bright mark the hand lay on); "
-         "0 = not at all");
+         "has started to move), and a hand-sized piece of it that ends in 3 fingertips at once; "
+         "what is held out goes back in once its region has not moved for this long and no "
+         "contact joins it to clear table (a bright mark the hand lay on; a hand that never "
+         "moves); 0 = not at all");
   v.Boolean("stills", p.stills,
             "each frame on its own (a folder of unrelated images, a photo): the background is "
             "the frame's spatial estimate alone, nothing is learned between frames, and the "
