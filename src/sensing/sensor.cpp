@@ -923,6 +923,7 @@ void Sensor::HoldOutHandLike() {
     count.assign(static_cast<size_t>(pieces), 0);
     for (const End& t : tips) ++count[static_cast<size_t>(pieceOf.at<int>(t.y, t.x))];
     count[0] = 0;  // outside the pieces
+    // from here on count[q] is 1 for a piece held out, 0 for the rest
     bool any = false;
     for (int q = 1; q < pieces; ++q) {
       const double area = stats.at<int>(q, cv::CC_STAT_AREA) / (pxPerCm * pxPerCm);
