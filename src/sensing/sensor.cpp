@@ -116,6 +116,24 @@ void CrossPass(const cv::Mat& src, cv::Mat& dst, const cv::Rect& area) {
   }
 }
 
+// A fingertip's circle (Sensor::TipLike, Sensor::HoldOutHandLike): the 16 points of a circle of
+// radius r px round (cx, cy), each marked where `onTable(x, y)` says the table shows there. One
+// beyond the image does not: what the image cuts off goes on. Returns how many are marked.
+constexpr int kCirclePoints = 16;
+template <class OnTable>
+int CircleOnTable(double cx, double cy, double r, cv::Size image, const OnTable& onTable,
+                  bool (&marked)[kCirclePoints]) {
+  int table = 0;
+  for (int k = 0; k < kCirclePoints; ++k) {
+    const double a = 2.0 * kPi * k / kCirclePoints;
+    const int x = static_cast<int>(std::lround(cx + r * std::cos(a)));
+    const int y = static_cast<int>(std::lround(cy + r * std::sin(a)));
+    marked[k] = x >= 0 && y >= 0 && x < image.width && y < image.height && onTable(x, y);
+    table += marked[k] ? 1 : 0;
+  }
+  return table;
+}
+
 }  // namespace
 
 void OpenCross3(cv::Mat& image, cv::Mat& scratch, const std::vector<cv::Rect>* areas) {
@@ -484,16 +502,11 @@ bool Sensor::TipLike(cv::Point at, double peak) const {
   // wider than 3 cm) the whole circle is bright; a touch is "fingertip-like" when at least 5 of
   // 16 points read under half its peak. Points beyond the image count as bright.
   constexpr double kRingCm = 1.5;  // radius
-  constexpr int kPoints = 16, kTableAtLeast = 5;
-  const double r = kRingCm * PixelsPerCm();
-  int table = 0;
-  for (int k = 0; k < kPoints; ++k) {
-    const double a = 2.0 * kPi * k / kPoints;
-    const int x = static_cast<int>(std::lround(at.x + r * std::cos(a)));
-    const int y = static_cast<int>(std::lround(at.y + r * std::sin(a)));
-    if (x < 0 || y < 0 || x >= m_normalized.cols || y >= m_normalized.rows) continue;
-    if (m_normalized.ptr<uint8_t>(y)[x] < 0.5 * peak) ++table;
-  }
+  constexpr int kTableAtLeast = 5;
+  bool onTable[kCirclePoints];
+  const int table = CircleOnTable(
+      at.x, at.y, kRingCm * PixelsPerCm(), m_normalized.size(),
+      [&](int x, int y) { return m_normalized.ptr<uint8_t>(y)[x] < 0.5 * peak; }, onTable);
   return table >= kTableAtLeast;
 }
 
@@ -849,7 +862,7 @@ void Sensor::HoldOutHandLike() {
   //   more (three fingers' last two segments as bright as their tips) and at most 25 cm across
   //   (a spread hand is 20 to 23).
   constexpr double kEndReachCm = 0.75, kRingCm = 1.5, kHandAreaCm2 = 15.0, kHandSpanCm = 25.0;
-  constexpr int kPoints = 16, kTableAtLeast = 9, kTipsAtLeast = 3;
+  constexpr int kTableAtLeast = 9, kTipsAtLeast = 3;
   const cv::Rect rect = m_brightRect;
   const float margin = m_brightMargin;
   const float noise = static_cast<float>(NoiseDeviation());
@@ -876,20 +889,17 @@ void Sensor::HoldOutHandLike() {
     for (int x = 0; x < rect.width; x += 2) {
       const float peak = m[x];
       if (state[x] == kStillNone || peak < 2.0f * margin || peak < h[x] - margin) continue;
-      // the circle's points on the table (one beyond the image is not: what it cuts off goes
-      // on), and the arcs of the others
-      bool onTable[kPoints];
-      int table = 0;
-      for (int i = 0; i < kPoints; ++i) {
-        const double a = 2.0 * kPi * i / kPoints;
-        const int u = static_cast<int>(std::lround(x + rect.x + ring * std::cos(a)));
-        const int v = static_cast<int>(std::lround(y + rect.y + ring * std::sin(a)));
-        onTable[i] = u >= 0 && v >= 0 && u < m_lowest.cols && v < m_lowest.rows &&
-                     m_lowest.ptr<float>(v)[u] - m_spatial.ptr<uint8_t>(v)[u] < 0.5f * peak;
-        table += onTable[i] ? 1 : 0;
-      }
+      // the circle's points on the table, and the arcs of the others
+      bool onTable[kCirclePoints];
+      const int table = CircleOnTable(
+          x + rect.x, y + rect.y, ring, m_lowest.size(),
+          [&](int u, int v) {
+            return m_lowest.ptr<float>(v)[u] - m_spatial.ptr<uint8_t>(v)[u] < 0.5f * peak;
+          },
+          onTable);
       int arcs = 0;
-      for (int i = 0; i < kPoints; ++i) arcs += !onTable[i] && onTable[(i + 1) % kPoints] ? 1 : 0;
+      for (int i = 0; i < kCirclePoints; ++i)
+        arcs += !onTable[i] && onTable[(i + 1) % kCirclePoints] ? 1 : 0;
       if (table >= kTableAtLeast && arcs == 1)
         ends[static_cast<size_t>(label[x])].push_back({peak, x, y});
     }
