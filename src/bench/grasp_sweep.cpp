@@ -1128,6 +1128,7 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       // the axis, across it, and how far across the springs stretch before friction slides
       struct Lagged {
         double axial = 0.0, held = 0.0, elastic = 0.0;
+        double friction = 0.0;  // across, the bodies' friction without the round slice's tilt
       };
       auto laggedGrip = [&](const Vec2& dir, double l, double acrossLag) {
         Vec2 sum = Vec2::Zero();
@@ -1141,9 +1142,9 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         }
         Lagged r;
         r.elastic = bodies > 0.0 ? muP * normalSum / (k * bodies) : 0.0;
-        r.held = std::min(k * bodies * std::min(acrossLag, r.elastic + kBreakLooseSlip),
-                          muP * normalSum) *
-                 keep;
+        r.friction = std::min(k * bodies * std::min(acrossLag, r.elastic + kBreakLooseSlip),
+                              muP * normalSum);
+        r.held = r.friction * keep;
         r.axial = std::max(sum.dot(dir), 0.0);
         return r;
       };
@@ -1202,17 +1203,95 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
           }
         }
         const double kinetic = o.tableKinetic * weight;
+        // Eleventh revision: the table's kinetic friction acts along the object's velocity, not
+        // split along u. Along the axis the springs are stiff (the normals of every pressing
+        // body): that part of a step is caught up, or stopped, within milliseconds, while the
+        // friction across catches up over tenths of a second. So while the object is caught up
+        // across, it moves at v cos(phi) along the axis and w across (0 <= w < v sin(phi)), and
+        // the table resists across by mu_k W w / sqrt((v cos)^2 + w^2) only: less than
+        // mu_k W sin(phi) until it has caught up. Along the axis, while w is still about 0, the
+        // table's friction is all against the axial catch-up: mu_k W, not mu_k W cos(phi).
+        // Stopping, the axial motion stops first and the friction then acts across in full.
+        // (Seed 214 scene 312: a 77 g box carried at 8.6 cm/s, 75 degrees off its grip's axis,
+        // reached 8.1 cm/s across within 0.2 s on a grip friction of mu_p N = 37,900 dyn; split
+        // along u the table would have left it 850 dyn for that.)
+        // Across, the normal forces hold or push as well. Up to the springs' stretch e the
+        // bodies stick to the object and move with it: their normals do not turn. Beyond it they
+        // slide over its surface and stay where the grip holds them, and the object, x across,
+        // has moved x - e past them: each fingertip presses the object there as it would a
+        // fresh one (`force`). On a flat face nothing turns; two fingertips pinching a round
+        // slice press through its centre, which has moved off their line, and push it on by about
+        // N (x - e) / rho (the seventh revision's tilt); a thumb against two fingertips cradles it,
+        // the one it moved towards pressing deeper.
+        const Vec2 acrossDir = sinE > 1e-9 ? Vec2((u - axis * u.dot(axis)).normalized()) : axis;
+        // `back`: where the grip is from the object (acrossDir catching up, -acrossDir stopping)
+        auto acrossHold = [&](const Vec2& dir, const Vec2& back, double x) {
+          const Lagged r = laggedGrip(dir, 0.0, x);
+          const double slid = std::max(0.0, x - r.elastic);
+          Vec2 normals = Vec2::Zero();
+          for (size_t i = 0; i < fingers; ++i) normals += force(i, shift - back * slid);
+          return r.friction + normals.dot(back);
+        };
+        auto acrossCatchUp = [&](const Vec2& dir, double from) {
+          // the fastest step whose across part the springs catch within acrossLimit
+          const double x0 = from * sinE;
+          if (x0 >= acrossLimit) return 0.0;
+          std::vector<double> held(kStepLags + 1);
+          double work = 0.0, most = 0.0;
+          for (int j = 0; j <= kStepLags; ++j) {
+            held[static_cast<size_t>(j)] =
+                acrossHold(dir, acrossDir, x0 + (acrossLimit - x0) * j / kStepLags);
+            if (j > 0)
+              work += 0.5 * (held[static_cast<size_t>(j - 1)] + held[static_cast<size_t>(j)]) *
+                      (acrossLimit - x0) / kStepLags;
+            most = std::max(most, work);
+          }
+          const double dx = (acrossLimit - x0) / kStepLags;
+          // In the grip's frame the object comes in across at v sin - w with kinetic energy E;
+          // the springs take dE/dx = H(x) - friction(w) of it per cm it lags further.
+          auto caught = [&](double v) {
+            const double vs = v * sinE, va = v * cosE;
+            double e = 0.5 * mass.mass * vs * vs;
+            auto loss = [&](double h, double energy) {
+              const double w =
+                  std::max(0.0, vs - std::sqrt(2.0 * std::max(energy, 0.0) / mass.mass));
+              const double speed = std::hypot(va, w);
+              return h - (speed > 0.0 ? kinetic * w / speed : 0.0);
+            };
+            for (int j = 0; j < kStepLags; ++j) {
+              const double h0 = held[static_cast<size_t>(j)], h1 = held[static_cast<size_t>(j + 1)];
+              const double k1 = loss(h0, e);
+              e -= dx * loss(0.5 * (h0 + h1), e - 0.5 * dx * k1);
+              if (e <= 0.0) return true;
+            }
+            return false;
+          };
+          // without the table's friction the springs' work W catches at most sqrt(2 W / M)
+          double lo = 0.0, hi = std::sqrt(2.0 * most / mass.mass) / sinE;
+          if (!(hi > 0.0)) return 0.0;
+          if (!caught(hi * 1e-6)) return 0.0;
+          for (int i = 0; i < 40; ++i) {
+            const double mid = 0.5 * (lo + hi);
+            (caught(mid) ? lo : hi) = mid;
+          }
+          return lo;
+        };
         auto speedFor = [&](const Vec2& dir, double from, double sign) {
           // the fastest step each direction catches (or stops, sign +1: friction helps)
-          const double axial =
-              energyFrom([&](double l) { return laggedGrip(dir, l, 0.0).axial; }, from * cosE,
-                         physics.gripMaxDepth, -sign * kinetic * cosE);
-          const double acrossEnergy =
-              energyFrom([&](double x) { return laggedGrip(dir, 0.0, x).held; }, from * sinE,
-                         acrossLimit, -sign * kinetic * sinE);
+          const double axialResist = sign < 0.0 ? kinetic : -kinetic * cosE;
+          const double axial = energyFrom([&](double l) { return laggedGrip(dir, l, 0.0).axial; },
+                                          from * cosE, physics.gripMaxDepth, axialResist);
           const double vAxial = cosE > 1e-9 ? std::sqrt(2.0 * axial / mass.mass) / cosE : kInfinity;
-          const double vAcross =
-              sinE > 1e-9 ? std::sqrt(2.0 * acrossEnergy / mass.mass) / sinE : kInfinity;
+          if (sinE <= 1e-9) return vAxial;
+          double vAcross = 0.0;
+          if (sign < 0.0) {
+            vAcross = acrossCatchUp(dir, from);
+          } else {
+            const double acrossEnergy =
+                energyFrom([&](double x) { return acrossHold(dir, -acrossDir, x); }, from * sinE,
+                           acrossLimit, -kinetic);
+            vAcross = std::sqrt(2.0 * acrossEnergy / mass.mass) / sinE;
+          }
           return std::min(vAxial, vAcross);
         };
         p.catchUpSpeed = std::isfinite(looseLag) ? speedFor(lead, looseLag, -1.0) : 0.0;
