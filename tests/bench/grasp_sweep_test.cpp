@@ -801,27 +801,23 @@ TEST(GraspRule, AnObliqueStepIsCaughtUpAcrossAgainstTheTablesFrictionAlongTheObj
     }
     return false;
   };
-  double lo = 0.0, hi = 100.0;
+  // the fastest step `handled` (caught up or stopped) handles, by bisection below 100 cm/s
+  auto fastestOf = [](auto&& handled) {
+    double lo = 0.0, hi = 100.0;
+    for (int i = 0; i < 30; ++i) (handled(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
+    return 0.5 * (lo + hi);
+  };
   ASSERT_TRUE(stopped(1.0));
-  ASSERT_FALSE(stopped(hi));
-  for (int i = 0; i < 30; ++i) (stopped(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
-  const double fastestStop = 0.5 * (lo + hi);
+  ASSERT_FALSE(stopped(100.0));
+  const double fastestStop = fastestOf(stopped);
   EXPECT_NEAR(p.stopSpeed, fastestStop, 0.04 * fastestStop);
-  lo = 0.0;
-  hi = 100.0;
   ASSERT_TRUE(caught(1.0));
-  ASSERT_FALSE(caught(hi));
-  for (int i = 0; i < 30; ++i) (caught(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
-  const double fastest = 0.5 * (lo + hi);
+  ASSERT_FALSE(caught(100.0));
+  const double fastest = fastestOf(caught);
   EXPECT_NEAR(p.catchUpSpeed, fastest, 0.04 * fastest);
   // The friction split along the motion (mu_k W sin across all along) catches far less.
-  const double x0 = muS / (k * bodies);
-  double split = 0.0, best = 0.0;
-  for (int j = 0; j < 400; ++j) {
-    const double x = x0 + (limit - x0) * (j + 0.5) / 400;
-    split += (held(x) - muK * sinE) * (limit - x0) / 400;
-    best = std::max(best, split);
-  }
+  const double best =
+      MostEnergy([&](double x) { return held(x) - muK * sinE; }, muS / (k * bodies), limit);
   std::printf(
       "oblique step: catches %.2f cm/s by the rule, %.2f integrated, %.2f with the friction split "
       "along u; stops %.2f by the rule, %.2f integrated\n",
