@@ -85,10 +85,13 @@ void Describe(SensingParams& p, ParamVisitor& v) {
             "level is set from the frame's own noise and brightest fingertip");
   v.Real("background_learning", p.backgroundLearning, 0, 3600, "s",
          "time constant with which the background follows the frames where nothing touches "
-         "(slow light changes, things left on the table); 0 keeps it fixed");
+         "and the frame is not brighter than it by 3 noise deviations (slow light changes, "
+         "things left on the table; a hovering hand's glow is learned at touch_learning); 0 "
+         "keeps it fixed");
   v.Real("touch_learning", p.touchLearning, 0, 36000, "s",
-         "time constant with which the background follows the frames under contacts, so that "
-         "a contact that never changes (a light left on, something bright left on the table) "
+         "time constant with which the background follows the frames under contacts and "
+         "where the frame is brighter than it by 3 noise deviations (a hand's glow), so that a "
+         "contact that never changes (a light left on, something bright left on the table) "
          "fades; a finger held this long loses 63% of its contrast; 0 = never");
   v.Real("smooth", p.smooth, 0, 2, "cm",
          "deviation of the Gaussian blur that removes sensor noise after the background is "

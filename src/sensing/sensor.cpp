@@ -116,6 +116,61 @@ void CrossPass(const cv::Mat& src, cv::Mat& dst, const cv::Rect& area) {
   }
 }
 
+// Marks in `mask` (0 or 255, same size) the glows: pixels of `grey` brighter than `background`
+// by more than `margin` grey where the background is not below `reference` by more than it
+// (whole levels: grey - background > margin and reference - background <= margin), and returns
+// how many there are, marked before or not. One pass, 16 pixels at a time where SSE2 is there.
+size_t MarkGlows(const cv::Mat& grey, const cv::Mat& background, const cv::Mat& reference,
+                 double margin, cv::Mat& mask) {
+  const int above = static_cast<int>(std::floor(margin));  // the largest excess that is not more
+  const uint8_t step = static_cast<uint8_t>(std::clamp(above, 0, 255));
+  size_t marked = 0;
+  for (int y = 0; y < grey.rows; ++y) {
+    const uint8_t* g = grey.ptr<uint8_t>(y);
+    const uint8_t* b = background.ptr<uint8_t>(y);
+    const uint8_t* r = reference.ptr<uint8_t>(y);
+    uint8_t* m = mask.ptr<uint8_t>(y);
+    int x = 0;
+#if defined(__SSE2__)
+    const __m128i limit = _mm_set1_epi8(static_cast<char>(step));
+    const __m128i zero = _mm_setzero_si128();
+    // per-byte counts (each bright byte is -1, so subtracting it adds 1), summed every 255 steps
+    __m128i counts = zero;
+    int pending = 0;
+    auto flush = [&] {
+      const __m128i sums = _mm_sad_epu8(counts, zero);
+      marked += static_cast<size_t>(_mm_cvtsi128_si32(sums)) +
+                static_cast<size_t>(_mm_cvtsi128_si32(_mm_srli_si128(sums, 8)));
+      counts = zero;
+      pending = 0;
+    };
+    for (; x + 16 <= grey.cols; x += 16) {
+      const __m128i gv = _mm_loadu_si128(reinterpret_cast<const __m128i*>(g + x));
+      const __m128i bv = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + x));
+      const __m128i rv = _mm_loadu_si128(reinterpret_cast<const __m128i*>(r + x));
+      const __m128i mv = _mm_loadu_si128(reinterpret_cast<const __m128i*>(m + x));
+      // (g - b) saturated, less the limit, saturated: non-zero where g - b > limit; the same for
+      // r - b: zero where the background is not below the reference by more than the limit
+      const __m128i over = _mm_subs_epu8(_mm_subs_epu8(gv, bv), limit);
+      const __m128i low = _mm_subs_epu8(_mm_subs_epu8(rv, bv), limit);
+      const __m128i bright =
+          _mm_andnot_si128(_mm_cmpeq_epi8(over, zero), _mm_cmpeq_epi8(low, zero));
+      counts = _mm_sub_epi8(counts, bright);
+      if (++pending == 255) flush();
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(m + x), _mm_or_si128(mv, bright));
+    }
+    flush();
+#endif
+    for (; x < grey.cols; ++x) {
+      if (g[x] - b[x] > above && r[x] - b[x] <= above) {
+        ++marked;
+        m[x] = 255;
+      }
+    }
+  }
+  return marked;
+}
+
 // A fingertip's circle (Sensor::TipLike, Sensor::HoldOutHandLike): the 16 points of a circle of
 // radius r px round (cx, cy), each marked where `onTable(x, y)` says the table shows there. One
 // beyond the image does not: what the image cuts off goes on. Returns how many are marked.
@@ -231,6 +286,8 @@ MaybeError Sensor::SetBackground(const cv::Mat& background) {
 
 void Sensor::ForgetLearned() {
   m_learned.release();
+  m_reference.release();
+  m_reference8.release();
   m_warmup = false;
   m_spatial.release();
   m_lowMean.release();
@@ -405,6 +462,15 @@ double Sensor::AdaptiveLevel(double brightest) const {
   const double noise = NoiseDeviation();
   return std::min(m_params.threshold, std::max(m_params.gain * m_params.noiseFactor * noise,
                                                m_params.contrastFraction * brightest));
+}
+
+double Sensor::BrightMargin() const {
+  // 3 noise deviations of the camera (a running mean's own noise is a third of it, so noise alone
+  // is 9 of its deviations off), at least a grey level; with a fixed level, half of it (the noise
+  // is not measured then)
+  const bool adaptive = m_params.thresholdMode == ThresholdMode::kAdaptive && m_noise >= 0.0;
+  return adaptive ? std::max(3.0 * NoiseDeviation(), 1.0)
+                  : std::max(1.0, 0.5 * m_params.threshold / std::max(1e-6, m_params.gain));
 }
 
 double Sensor::NoiseDeviation() const {
@@ -704,6 +770,8 @@ double Sensor::LearnBackground(double time) {
   if (!(dt > 0.0)) return dt;
   if (m_learned.empty()) {
     m_background.convertTo(m_learned, CV_32F);
+    m_learned.copyTo(m_reference);
+    m_background.copyTo(m_reference8);
     m_learnedTime = 0.0;
     m_bandsStarted = false;
   }
@@ -756,9 +824,34 @@ double Sensor::LearnBackground(double time) {
   const cv::Range cols = cv::Range::all();
   cv::dilate(m_binary(cv::Range(m0, m1), cols), m_still, cv::Mat(), cv::Point(-1, -1), kMargin);
   cv::Mat still = m_still(cv::Range(r0 - m0, r1 - m0), cols);
+  cv::Mat learned = m_learned(cv::Range(r0, r1), cols);
+  {
+    // Only what reads as table is learned at background_learning. A pixel brighter than the
+    // background by the bright margin (3 noise deviations, at least a grey level; with a fixed
+    // level, half of it) is a hand's glow or a touch below the level: learned as a contact is, at
+    // touch_learning. Not where the background lies below its long-term level (m_reference) by
+    // more than the margin: something dark that lay there (a shadow) was learned, and the table
+    // that shows again is brighter than it; that is learned back at background_learning. A band
+    // whose glows cover half its pixels or more is the table's lighting changing, and is learned
+    // as before (its contacts marked again: rare, so the common case takes one pass).
+    const double margin = BrightMargin();
+    if (!m_spatial.empty() &&
+        m_lastTime - m_startTime <= m_params.backgroundWarmup + m_params.backgroundSettle) {
+      // while an estimated background settles, what it is set to (a hand held out, the table
+      // that showed where one lay) is its level: the long-term one starts when it has settled
+      learned.copyTo(m_reference(cv::Range(r0, r1), cols));
+      m_background(cv::Range(r0, r1), cols).copyTo(m_reference8(cv::Range(r0, r1), cols));
+    }
+    const size_t bright =
+        MarkGlows(m_grey(cv::Range(r0, r1), cols), m_background(cv::Range(r0, r1), cols),
+                  m_reference8(cv::Range(r0, r1), cols), margin, still);
+    if (2 * bright >= still.total()) {
+      cv::dilate(m_binary(cv::Range(m0, m1), cols), m_still, cv::Mat(), cv::Point(-1, -1), kMargin);
+      still = m_still(cv::Range(r0 - m0, r1 - m0), cols);
+    }
+  }
   cv::bitwise_not(still, still);
   const double alpha = 1.0 - std::exp(-bandDt / m_params.backgroundLearning);
-  cv::Mat learned = m_learned(cv::Range(r0, r1), cols);
   cv::accumulateWeighted(m_grey(cv::Range(r0, r1), cols), learned, alpha, still);
   const double touchDt = time - m_touchTime[band];
   if (m_params.touchLearning > 0.0 && touchDt >= 0.01 * m_params.touchLearning) {
@@ -770,8 +863,12 @@ double Sensor::LearnBackground(double time) {
     // work.
     m_touchTime[band] = time;
     cv::bitwise_not(still, still);
-    cv::accumulateWeighted(m_grey(cv::Range(r0, r1), cols), learned,
-                           1.0 - std::exp(-touchDt / m_params.touchLearning), still);
+    const double touchAlpha = 1.0 - std::exp(-touchDt / m_params.touchLearning);
+    cv::accumulateWeighted(m_grey(cv::Range(r0, r1), cols), learned, touchAlpha, still);
+    // the long-term level follows every pixel at the same rate
+    cv::Mat reference = m_reference(cv::Range(r0, r1), cols);
+    cv::accumulateWeighted(m_grey(cv::Range(r0, r1), cols), reference, touchAlpha);
+    reference.convertTo(m_reference8(cv::Range(r0, r1), cols), CV_8UC1);
   }
   SettleDark(r0, r1, bandDt);
   cv::Mat background = m_background(cv::Range(r0, r1), cols);
@@ -808,6 +905,8 @@ void Sensor::FinishWarmup() {
   m_spatial.convertTo(floor, CV_32F, 1.0, -2.0 * noise);
   cv::max(m_lowest, floor, m_learned);
   m_learned.convertTo(m_background, CV_8UC1);
+  m_learned.copyTo(m_reference);
+  m_background.copyTo(m_reference8);
 
   // What the warm-up took in that is bright against the spatial estimate is either the table's
   // own (a hot spot, a bright mark) or a hand that lay still through it: kept apart for the
@@ -816,10 +915,7 @@ void Sensor::FinishWarmup() {
   // at least a grey level; with a fixed level, half of it (the noise is not measured then).
   m_stillState.release();
   if (m_params.backgroundSettle > 0.0 && m_params.backgroundStill > 0.0) {
-    const bool adaptive = m_params.thresholdMode == ThresholdMode::kAdaptive && m_noise >= 0.0;
-    m_brightMargin = static_cast<float>(
-        adaptive ? std::max(3.0 * noise, 1.0)
-                 : std::max(1.0, 0.5 * m_params.threshold / std::max(1e-6, m_params.gain)));
+    m_brightMargin = static_cast<float>(BrightMargin());
     cv::Mat raised, bright;
     m_spatial.convertTo(raised, CV_32F, 1.0, m_brightMargin);
     cv::compare(m_lowest, raised, bright, cv::CMP_GT);

@@ -760,6 +760,94 @@ TEST(Sensor, BackgroundFollowsTheFramesWhereNothingTouches) {
   EXPECT_EQ(cv::norm(rig.sensor.Background(), kept, cv::NORM_INF), 0.0);
 }
 
+// A hand hovering over the table glows there: brighter than the table by less than a touch, so
+// no contact, but not the table either. Learned at background_learning (10 s) as the table is,
+// 20 s of it raised the background by 1 - e^-2 = 86% of the glow, and a fingertip landing there
+// lost that much of its contrast (t2.avi's frame 1500: a ring fingertip 8 grey above the table,
+// 4 above a background its hovering hand had raised). A pixel brighter than the background by the
+// bright margin (3 noise deviations: 9 grey on this camera) is learned as a contact is, at
+// touch_learning (300 s). The glow here: 25 grey at its centre, 4 cm wide (deviation), which the
+// high-pass fades below the level; held for 20 s at 15 frames/s (four noise draws in turn).
+// The background's rise, the mean over 9 x 9 px (the four draws' noise, 1.5 grey a pixel, and the
+// rounding to whole grey levels average out to under 0.3 grey):
+// - at the glow's centre at most 25 (1 - e^(-20/300)) = 1.6 grey, plus 1 for what averages out
+//   only in part: 2.6 (before, 25 (1 - e^-2) = 21.6);
+// - 4 cm out, where the glow is 15.2 grey, a pixel's noise (3 grey) takes it under the margin in
+//   1.9% of draws (6.2 grey, 2.07 deviations): those are learned at the full rate, the others at
+//   touch_learning's, 15.2 (0.019 (1 - e^-2) + 1 - e^(-20/300)) = 1.2 grey, plus 1: 2.2;
+// - away from the glow the table is learned as before: within 1 grey of where it was.
+TEST(Sensor, AHoveringHandsGlowIsNotLearnedIntoTheBackground) {
+  SensingParams sp;  // the defaults: background_learning 10 s, touch_learning 300 s
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const cv::Mat before = rig.sensor.Background().clone();
+  const Vec2 at(30.0, 22.0);
+  const cv::Mat glow = WithGlow(rig, cv::Mat::zeros(before.size(), CV_8UC1), at, 4.0, 25.0);
+  std::vector<cv::Mat> frames;
+  for (int k = 0; k < 4; ++k) frames.push_back(rig.camera.Render({}) + glow);
+  for (int i = 0; i <= 300; ++i) {
+    Result<ContourFrame> r = rig.sensor.Step(frames[i % 4], i, i / 15.0);
+    ASSERT_TRUE(r) << r.error().Format();
+    ASSERT_TRUE(r.value().blobs.empty()) << "frame " << i;
+  }
+  const cv::Mat& after = rig.sensor.Background();
+  auto rise = [&](Vec2 p) {
+    const Vec2 c = rig.camera.model().TableToCamera(p);
+    const cv::Rect patch(static_cast<int>(c.x()) - 4, static_cast<int>(c.y()) - 4, 9, 9);
+    return cv::mean(after(patch))[0] - cv::mean(before(patch))[0];
+  };
+  EXPECT_LE(rise(at), 2.6);
+  EXPECT_LE(rise(at + Vec2(4.0, 0.0)), 2.2);
+  EXPECT_LE(rise(at + Vec2(0.0, 4.0)), 2.2);
+  EXPECT_LE(std::abs(rise(Vec2(8.0, 8.0))), 1.0);
+  EXPECT_LE(std::abs(rise(Vec2(52.0, 38.0))), 1.0);
+  std::printf("rise: centre %.2f, 4 cm out %.2f and %.2f, away %.2f and %.2f grey\n", rise(at),
+              rise(at + Vec2(4.0, 0.0)), rise(at + Vec2(0.0, 4.0)), rise(Vec2(8.0, 8.0)),
+              rise(Vec2(52.0, 38.0)));
+}
+
+// Something dark that lies long on the table (a finger's shadow in strong ambient light) is learned
+// at background_learning, and when it goes the table there reads brighter than the background:
+// not a glow, which the rule above would learn only at touch_learning, keeping the background
+// low for minutes. The background's long-term level (learned everywhere at touch_learning) tells
+// them apart: where the background lies below it by more than the margin, the brighter table is
+// learned back at background_learning. A spot 30 grey deep, 2 cm across (0.5 cm deviation),
+// lies 10 s on the table: the background there comes down 30 (1 - e^-1) = 19 grey, the long-term
+// level 30 (1 - e^(-10/300)) = 1 grey. When it goes, the background comes back at the full rate
+// until it lies within the margin m (3 measured noise deviations, 9 to 10.5 grey here) of the
+// long-term level: T ln(19 / m) = 6.4 to 7.5 s. From there it comes back at the share of the
+// camera's draws that read within the margin of it, at least half (the draws are symmetric about
+// the table, which lies above it), so at d <= m e^(-(t - 7.5 s) / 2T). 40 s after it went that is
+// 10.5 e^-1.6 = 2.0 grey, plus 1 for the 8-bit background the comparisons read and what the
+// 9 x 9 px mean of 16 noise draws leaves: within 3 grey of the clear table (with bright pixels
+// learned at touch_learning alone it was still 10.5 grey below). No contact comes from it.
+TEST(Sensor, ADarkSpotThatGoesIsLearnedBack) {
+  SensingParams sp;  // the defaults
+  Rig rig(HardCamera(), sp);
+  ASSERT_FALSE(rig.sensor.SetBackground(rig.camera.Background()));
+  const cv::Mat before = rig.sensor.Background().clone();
+  const Vec2 at(30.0, 22.0);
+  const cv::Mat spot = WithGlow(rig, cv::Mat::zeros(before.size(), CV_8UC1), at, 0.5, 30.0);
+  // 16 noise draws in turn: the last grey levels come back through the draws that read within
+  // the margin, which a pixel with only a few draws might never have
+  std::vector<cv::Mat> clear, dark;
+  for (int k = 0; k < 16; ++k) {
+    clear.push_back(rig.camera.Render({}));
+    dark.push_back(clear.back() - spot);
+  }
+  for (int i = 0; i <= 750; ++i) {
+    const double t = i / 15.0;
+    Result<ContourFrame> r = rig.sensor.Step(t < 10.0 ? dark[i % 16] : clear[i % 16], i, t);
+    ASSERT_TRUE(r) << r.error().Format();
+    ASSERT_TRUE(r.value().blobs.empty()) << "frame " << i;
+  }
+  const Vec2 c = rig.camera.model().TableToCamera(at);
+  const cv::Rect patch(static_cast<int>(c.x()) - 4, static_cast<int>(c.y()) - 4, 9, 9);
+  const double left = cv::mean(rig.sensor.Background()(patch))[0] - cv::mean(before(patch))[0];
+  std::printf("background at the spot 40 s after it went: %.2f grey from the clear table\n", left);
+  EXPECT_NEAR(left, 0.0, 3.0);
+}
+
 // A noiseless camera: every |frame - background| is 0, so the measured noise is 0, and the level
 // would come down to 0 (any grey level above the table a contact). It stops at the rounding of
 // frame and background to whole grey levels, which every 8-bit camera has: 5 x sqrt(2 / 12) =

@@ -116,6 +116,8 @@ class Sensor {
   bool WarmingUp() const;
   // the camera noise's deviation (grey), never below the rounding of frame and background
   double NoiseDeviation() const;
+  // what is bright against the background: a hand's glow, something the warm-up took in
+  double BrightMargin() const;
   // the camera noise's deviation in the frame just learned (threshold_mode "adaptive")
   void MeasureNoise(double dt);
   // the brightest fingertip-like touch above `level` (0 when none), where the filter worked
@@ -151,6 +153,10 @@ class Sensor {
   cv::Mat m_lowMean, m_lowest;
   double m_startTime = 0.0;  // s, the time of the frame the background was estimated from
   cv::Mat m_learned;         // CV_32F, the background being learned
+  // the background's long-term level: the frames learned everywhere at touch_learning (CV_32F),
+  // and as whole grey levels (CV_8UC1); a glow is what is bright against a background that is
+  // not below it (LearnBackground)
+  cv::Mat m_reference, m_reference8;
   // after the warm-up, while it settles (TrackStillRegions), over m_brightRect: each pixel of a
   // region the warm-up found bright against the spatial estimate is kStillIn (in the background)
   // or kStillOut (held out at the spatial estimate, its running low kept); the running mean, that
