@@ -832,8 +832,9 @@ double Sensor::LearnBackground(double time) {
     // touch_learning. Not where the background lies below its long-term level (m_reference) by
     // more than the margin: something dark that lay there (a shadow) was learned, and the table
     // that shows again is brighter than it; that is learned back at background_learning. A band
-    // whose glows cover half its pixels or more is the table's lighting changing, and is learned
-    // as before (its contacts marked again: rare, so the common case takes one pass).
+    // where such bright pixels (contacts' included) cover half its pixels or more is the table's
+    // lighting changing, and is learned as before (its contacts marked again: rare, so the common
+    // case takes one pass).
     const double margin = BrightMargin();
     if (!m_spatial.empty() &&
         m_lastTime - m_startTime <= m_params.backgroundWarmup + m_params.backgroundSettle) {
