@@ -760,6 +760,13 @@ TEST(Sensor, BackgroundFollowsTheFramesWhereNothingTouches) {
   EXPECT_EQ(cv::norm(rig.sensor.Background(), kept, cv::NORM_INF), 0.0);
 }
 
+// How much the background's mean over the 9 x 9 px round a table point changed, grey.
+double PatchChange(const Rig& rig, const cv::Mat& before, const cv::Mat& after, Vec2 at) {
+  const Vec2 c = rig.camera.model().TableToCamera(at);
+  const cv::Rect patch(static_cast<int>(c.x()) - 4, static_cast<int>(c.y()) - 4, 9, 9);
+  return cv::mean(after(patch))[0] - cv::mean(before(patch))[0];
+}
+
 // A hand hovering over the table glows there: brighter than the table by less than a touch, so
 // no contact, but not the table either. Learned at background_learning (10 s) as the table is,
 // 20 s of it raised the background by 1 - e^-2 = 86% of the glow, and a fingertip landing there
@@ -791,11 +798,7 @@ TEST(Sensor, AHoveringHandsGlowIsNotLearnedIntoTheBackground) {
     ASSERT_TRUE(r.value().blobs.empty()) << "frame " << i;
   }
   const cv::Mat& after = rig.sensor.Background();
-  auto rise = [&](Vec2 p) {
-    const Vec2 c = rig.camera.model().TableToCamera(p);
-    const cv::Rect patch(static_cast<int>(c.x()) - 4, static_cast<int>(c.y()) - 4, 9, 9);
-    return cv::mean(after(patch))[0] - cv::mean(before(patch))[0];
-  };
+  auto rise = [&](Vec2 p) { return PatchChange(rig, before, after, p); };
   EXPECT_LE(rise(at), 2.6);
   EXPECT_LE(rise(at + Vec2(4.0, 0.0)), 2.2);
   EXPECT_LE(rise(at + Vec2(0.0, 4.0)), 2.2);
@@ -841,9 +844,7 @@ TEST(Sensor, ADarkSpotThatGoesIsLearnedBack) {
     ASSERT_TRUE(r) << r.error().Format();
     ASSERT_TRUE(r.value().blobs.empty()) << "frame " << i;
   }
-  const Vec2 c = rig.camera.model().TableToCamera(at);
-  const cv::Rect patch(static_cast<int>(c.x()) - 4, static_cast<int>(c.y()) - 4, 9, 9);
-  const double left = cv::mean(rig.sensor.Background()(patch))[0] - cv::mean(before(patch))[0];
+  const double left = PatchChange(rig, before, rig.sensor.Background(), at);
   std::printf("background at the spot 40 s after it went: %.2f grey from the clear table\n", left);
   EXPECT_NEAR(left, 0.0, 3.0);
 }
