@@ -25,7 +25,7 @@ set(PROXYGRASP_PUBLIC_HEADERS
     core/error.h core/geometry.h core/ids.h core/params.h core/rng.h core/table.h core/timer.h
     core/units.h
     tuio/decoder.h tuio/encoder.h tuio/osc.h tuio/transport.h tuio/types.h
-    sensing/background.h sensing/calibration.h sensing/frame_source.h sensing/recorder.h
+    sensing/background.h sensing/calibration.h sensing/frame_source.h sensing/highpass.h sensing/recorder.h
     sensing/depth_sensor.h sensing/sensor.h
     sensing/synthetic_camera.h sensing/types.h
     tracking/tracker.h tracking/types.h

@@ -570,9 +570,18 @@ bool Sensor::TipLike(cv::Point at, double peak) const {
   constexpr double kRingCm = 1.5;  // radius
   constexpr int kTableAtLeast = 5;
   bool onTable[kCirclePoints];
+  // Along the spans the filtered image holds its levels; elsewhere (m_areasOnly) it holds 0, and
+  // a point there whose smoothed level, gained, reaches half the peak is worked out on its own
+  // (the high-pass never adds), so that the level is the whole frame's.
+  const auto level = [&](int x, int y) -> double {
+    const uint8_t v = m_normalized.ptr<uint8_t>(y)[x];
+    if (!m_areasOnly || v != 0) return v;
+    if (m_spans.Gain(m_smoothed.ptr<uint8_t>(y)[x]) < 0.5 * peak) return v;
+    return m_spans.Gain(m_spans.At(x, y));
+  };
   const int table = CircleOnTable(
       at.x, at.y, kRingCm * PixelsPerCm(), m_normalized.size(),
-      [&](int x, int y) { return m_normalized.ptr<uint8_t>(y)[x] < 0.5 * peak; }, onTable);
+      [&](int x, int y) { return level(x, y) < 0.5 * peak; }, onTable);
   return table >= kTableAtLeast;
 }
 
@@ -683,8 +692,8 @@ void Sensor::HighpassWhereContactsCanBe(int width, double level) {
   // The high-pass never adds: highpass = smoothed - min(wide, cap) <= smoothed, and the gain and
   // the threshold are monotonic. So a pixel whose smoothed level s does not pass the threshold
   // once gained (gain s, rounded as convertTo rounds, not above the threshold) passes it after
-  // the high-pass neither. Only tiles holding a pixel that could pass are worked out; the binary
-  // image elsewhere is 0, as it would be had every pixel been worked out.
+  // the high-pass neither. Only the spans of rows round pixels that could pass are worked out;
+  // the binary image elsewhere is 0, as it would be had every pixel been worked out.
   // The lowest smoothed level that could pass, found with the chain's own arithmetic (convertTo,
   // then threshold) on every 8-bit level, one below it to be safe from any rounding.
   cv::Mat levels(1, 256, CV_8UC1), passing;
@@ -759,7 +768,58 @@ void Sensor::HighpassWhereContactsCanBe(int width, double level) {
     const int x0 = c0 * kTileCols, y0 = r0 * kTileRows;
     m_areas.emplace_back(x0, y0, std::min(size.width, (c1 + 1) * kTileCols) - x0,
                          std::min(size.height, (r1 + 1) * kTileRows) - y0);
-    HighpassOver(m_areas.back(), width);
+  }
+
+  // Within the marked tiles, each row is worked out along spans round its pixels that could
+  // pass (SpanHighpass): a box's sum is run along a span at one add and one subtract a pixel,
+  // and starting a span costs a box's width of adds, so pixels closer than that join one span.
+  // Over a frame of eight flat hands the marked tiles' rectangles, with the blur's border round
+  // each, came to about as many pixels as the whole frame; the spans are a third of it.
+  m_spans.Configure(width, cv::saturate_cast<uint8_t>(m_params.highpassCap), m_params.gain);
+  m_spans.Begin(m_smoothed);
+  for (int tr = 0; tr < tileRows; ++tr) {
+    const uint8_t* marks = &m_tileMarks[static_cast<size_t>(tr * tileCols)];
+    const int yEnd = std::min(size.height, (tr + 1) * kTileRows);
+    for (int y = tr * kTileRows; y < yEnd; ++y) {
+      const uint8_t* row = m_smoothed.ptr<uint8_t>(y);
+      int spanStart = -1, spanEnd = -1;  // the open span, [start, end)
+      for (int tc = 0; tc < tileCols; ++tc) {
+        if (marks[tc] == 0) continue;
+        const int x1 = std::min(size.width, (tc + 1) * kTileCols);
+        const auto take = [&](int x) {
+          if (spanStart >= 0 && x - spanEnd > width) {
+            m_spans.Span(y, spanStart, spanEnd, m_highpass, m_normalized);
+            spanStart = -1;
+          }
+          if (spanStart < 0) spanStart = x;
+          spanEnd = x + 1;
+        };
+        int x = tc * kTileCols;
+#if defined(__SSE2__)
+        // 16 pixels at a time: most of a tile's are below the floor
+        const __m128i low = _mm_set1_epi8(static_cast<char>(floor));
+        for (; x + 16 <= x1; x += 16) {
+          const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + x));
+          unsigned bits =
+              static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_max_epu8(v, low), v)));
+          if (bits == 0) continue;
+          if (width >= 16) {
+            // no gap within 16 pixels splits a span: its first and its last pixel
+            take(x + __builtin_ctz(bits));
+            spanEnd = x + 32 - __builtin_clz(bits);
+            continue;
+          }
+          while (bits != 0) {
+            take(x + __builtin_ctz(bits));
+            bits &= bits - 1;
+          }
+        }
+#endif
+        for (; x < x1; ++x)
+          if (row[x] >= floor) take(x);
+      }
+      if (spanStart >= 0) m_spans.Span(y, spanStart, spanEnd, m_highpass, m_normalized);
+    }
   }
 }
 
@@ -1336,6 +1396,15 @@ void Sensor::ExtractBlobs(std::vector<Blob>& blobs) {
             [](const Blob& a, const Blob& b) { return a.area > b.area; });
 }
 
+namespace {
+
+// WrapIndex for an offset of less than n either way, without a division (RefineToEdge's loops)
+inline int Around(int i, int n) {
+  return i < 0 ? i + n : (i >= n ? i - n : i);
+}
+
+}  // namespace
+
 void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2>& out) {
   const int n = static_cast<int>(pixels.size());
   // A long border (a hand's, not a fingertip's) keeps every second pixel where it runs straight
@@ -1354,8 +1423,8 @@ void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2
   for (int i = 0; i < n; ++i) {
     bool keep = n < kThinFrom || i % 2 == 0 || i == n - 1;
     if (!keep) {
-      const cv::Point& a = pixels[WrapIndex(i - 3, n)];
-      const cv::Point& c = pixels[WrapIndex(i + 3, n)];
+      const cv::Point& a = pixels[Around(i - 3, n)];
+      const cv::Point& c = pixels[Around(i + 3, n)];
       const cv::Point& b = pixels[i];
       const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - b.x, vy = c.y - b.y;
       const double cross = ux * vy - uy * vx;
@@ -1385,12 +1454,13 @@ void Sensor::RefineToEdge(const std::vector<cv::Point>& pixels, std::vector<Vec2
 
   for (int k = 0; k < kept; ++k) {
     const int i = m_keep[k];
-    const cv::Point& a = pixels[WrapIndex(i - reach, n)];
-    const cv::Point& b = pixels[WrapIndex(i + reach, n)];
-    Vec2 normal(sign * (b.y - a.y), -sign * (b.x - a.x));
-    const double len = normal.norm();
+    const cv::Point& a = pixels[Around(i - reach, n)];
+    const cv::Point& b = pixels[Around(i + reach, n)];
+    // in scalars: an Eigen pair here went through the stack and stalled the loads after it
+    const double sx = sign * (b.y - a.y), sy = -sign * (b.x - a.x);
+    const double len = std::sqrt(sx * sx + sy * sy);
     if (len < 1e-9) continue;
-    normal /= len;
+    const Vec2 normal(sx / len, sy / len);
     const Vec2 p = out[k];
     // every sample is within kReach (2 px) of p along the normal: away from the image's last
     // rows and columns no sample needs clamping

@@ -7,6 +7,7 @@
 #include "proxygrasp/core/table.h"
 #include "proxygrasp/sensing/background.h"
 #include "proxygrasp/sensing/calibration.h"
+#include "proxygrasp/sensing/highpass.h"
 #include "proxygrasp/sensing/types.h"
 
 #include <opencv2/core.hpp>
@@ -71,12 +72,13 @@ class Sensor {
 
   /// The image of one stage of the last frame (empty before the first frame; the background is
   /// the one learned so far, ready for the next frame). With SetWholeStages(false) the high-pass
-  /// and gained images (and the high-pass's wide blur) hold their values only in the tiles where a
-  /// contact could be, and 0 elsewhere.
+  /// and gained images hold their values only along the spans of rows where a contact could be
+  /// (every pixel that could pass the threshold), and 0 elsewhere.
   const cv::Mat& StageImage(SensingStage stage) const;
   /// Whether every stage image covers the whole frame (true, the default: for viewing and tuning
-  /// the stages) or the high-pass and the gain are worked out only in the tiles where some pixel
-  /// is bright enough to pass the threshold (false: the pipeline, which reads only the contours).
+  /// the stages) or the high-pass and the gain are worked out only along the spans of rows round
+  /// the pixels bright enough to pass the threshold (false: the pipeline, which reads only the
+  /// contours).
   /// The contours are the same bits either way. Frames that ask for the table image, and the
   /// automatic threshold (which reads the whole gained image), always work on the whole frame.
   void SetWholeStages(bool whole) { m_wholeStages = whole; }
@@ -218,8 +220,9 @@ class Sensor {
   cv::Mat m_wide;                    // CV_8UC1 scratch: the wide blur of the high-pass
   cv::Mat m_still;                   // CV_8UC1 scratch: where nothing touches
   cv::Mat m_eroded;                  // CV_8UC1 scratch: the opening's first pass
-  std::vector<cv::Rect> m_areas;     // where the high-pass was worked out (m_areasOnly)
-  bool m_areasOnly = false;          // the filtered image is 0 outside m_areas
+  std::vector<cv::Rect> m_areas;     // the tiles round the spans worked out (m_areasOnly)
+  bool m_areasOnly = false;          // the filtered image is 0 outside the spans
+  SpanHighpass m_spans;              // the high-pass along the spans of rows that need it
   std::vector<uint8_t> m_tileMarks;  // per tile: some pixel there can pass the threshold
   std::vector<int> m_tileStack;      // tiles of a group still to visit
   cv::Mat m_kernel;
