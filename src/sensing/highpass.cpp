@@ -111,8 +111,8 @@ void SpanHighpass::Span(int y, int x0, int x1, cv::Mat& highpass, cv::Mat& gaine
     };
     for (; j + 8 <= n; j += 8) {
       const __m128i mean = _mm_min_epi16(_mm_packs_epi32(means(j), means(j + 4)), cap);
-      const __m128i px = _mm_unpacklo_epi8(
-          _mm_loadl_epi64(reinterpret_cast<const __m128i*>(s + j)), zero);
+      const __m128i px =
+          _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(s + j)), zero);
       const __m128i out = _mm_packus_epi16(_mm_subs_epu16(px, mean), zero);
       _mm_storel_epi64(reinterpret_cast<__m128i*>(h + j), out);
     }

@@ -53,9 +53,9 @@ TEST(SpanHighpass, GivesOpenCvsLevelsBitForBit) {
     int width;
     double cap, gain;
   };
-  const Setting settings[] = {{3, 40.0, 1.0},    {5, 255.0, 1.0}, {23, 40.0, 1.0},
-                              {41, 40.0, 2.7},   {41, 12.0, 0.6}, {61, 255.0, 1.0},
-                              {101, 40.0, 2.5},  {255, 40.0, 1.0}};
+  const Setting settings[] = {{3, 40.0, 1.0},   {5, 255.0, 1.0}, {23, 40.0, 1.0},
+                              {41, 40.0, 2.7},  {41, 12.0, 0.6}, {61, 255.0, 1.0},
+                              {101, 40.0, 2.5}, {255, 40.0, 1.0}};
   const cv::Size size(160, 120);
   std::mt19937 rng(11);
   int compared = 0;
@@ -78,8 +78,8 @@ TEST(SpanHighpass, GivesOpenCvsLevelsBitForBit) {
         hp.Span(y, 0, a, high, gained);
         hp.Span(y, b, size.width, high, gained);
       }
-      const std::string where = "width " + std::to_string(setting.width) + " gain " +
-                                std::to_string(setting.gain);
+      const std::string where =
+          "width " + std::to_string(setting.width) + " gain " + std::to_string(setting.gain);
       for (int y = 0; y < size.height; ++y) {
         for (int x = 0; x < size.width; ++x) {
           const uint8_t want = expectHigh.at<uint8_t>(y, x);
