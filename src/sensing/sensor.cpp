@@ -711,10 +711,13 @@ void Sensor::HighpassWhereContactsCanBe(int width, double level) {
     }
   }
 
-  // what is not worked out is 0
+  // what is not worked out is 0; the spans' high-pass is set up for this frame first (TipLike
+  // reads single pixels through it whenever only areas were worked out)
   const cv::Size size = m_smoothed.size();
-  m_highpass.setTo(0);  // m_wide is scratch, read only where HighpassOver has just written it
+  m_highpass.setTo(0);
   if (m_params.gain != 1.0) m_normalized.setTo(0);
+  m_spans.Configure(width, cv::saturate_cast<uint8_t>(m_params.highpassCap), m_params.gain);
+  m_spans.Begin(m_smoothed);
   if (lowest > 255) return;
 
   // tiles of kTileRows x kTileCols px: mark those with a pixel at or above `lowest`
@@ -775,8 +778,6 @@ void Sensor::HighpassWhereContactsCanBe(int width, double level) {
   // and starting a span costs a box's width of adds, so pixels closer than that join one span.
   // Over a frame of eight flat hands the marked tiles' rectangles, with the blur's border round
   // each, came to about as many pixels as the whole frame; the spans are a third of it.
-  m_spans.Configure(width, cv::saturate_cast<uint8_t>(m_params.highpassCap), m_params.gain);
-  m_spans.Begin(m_smoothed);
   for (int tr = 0; tr < tileRows; ++tr) {
     const uint8_t* marks = &m_tileMarks[static_cast<size_t>(tr * tileCols)];
     const int yEnd = std::min(size.height, (tr + 1) * kTileRows);

@@ -217,7 +217,7 @@ class Sensor {
   cv::Mat m_highpass;                // CV_8UC1
   cv::Mat m_normalized;              // CV_8UC1 after the gain: what is thresholded
   cv::Mat m_binary;                  // CV_8UC1 0/255
-  cv::Mat m_wide;                    // CV_8UC1 scratch: the wide blur of the high-pass
+  cv::Mat m_wide;                    // CV_8UC1 scratch: the wide blur of a whole-frame high-pass
   cv::Mat m_still;                   // CV_8UC1 scratch: where nothing touches
   cv::Mat m_eroded;                  // CV_8UC1 scratch: the opening's first pass
   std::vector<cv::Rect> m_areas;     // the tiles round the spans worked out (m_areasOnly)
