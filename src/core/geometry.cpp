@@ -134,6 +134,84 @@ double SignedDistance(const Contour& poly, const Vec2& p) {
   return PointInPolygon(poly, p) ? d : -d;
 }
 
+PolygonBands::PolygonBands(const Contour& poly) : m_poly(poly) {
+  const int n = static_cast<int>(poly.cols());
+  if (n == 0) {
+    m_start.assign(2, 0);
+    return;
+  }
+  m_y0 = poly.row(1).minCoeff();
+  const double height = poly.row(1).maxCoeff() - m_y0;
+  // about four edges a band: a hand's outline of 200 points reads a few of them a question
+  m_bands = std::clamp(n / 4, 1, 64);
+  m_height = height > 0.0 ? height / m_bands : 1.0;
+  // each edge in every band its height range meets: counted, then placed
+  m_start.assign(static_cast<size_t>(m_bands) + 1, 0);
+  const auto range = [&](int e, int* lo, int* hi) {
+    const double ya = poly(1, e), yb = poly(1, e + 1 < n ? e + 1 : 0);
+    *lo = Band(std::min(ya, yb));
+    *hi = Band(std::max(ya, yb));
+  };
+  for (int e = 0; e < n; ++e) {
+    int lo, hi;
+    range(e, &lo, &hi);
+    for (int b = lo; b <= hi; ++b) ++m_start[static_cast<size_t>(b) + 1];
+  }
+  for (int b = 0; b < m_bands; ++b) m_start[b + 1] += m_start[b];
+  m_edges.resize(static_cast<size_t>(m_start[m_bands]));
+  std::vector<int> fill(m_start.begin(), m_start.end() - 1);
+  for (int e = 0; e < n; ++e) {
+    int lo, hi;
+    range(e, &lo, &hi);
+    for (int b = lo; b <= hi; ++b) m_edges[static_cast<size_t>(fill[b]++)] = e;
+  }
+}
+
+int PolygonBands::Band(double y) const {
+  const double b = std::floor((y - m_y0) / m_height);
+  return static_cast<int>(std::clamp(b, 0.0, static_cast<double>(m_bands - 1)));
+}
+
+bool PolygonBands::Inside(const Vec2& p) const {
+  // PointInPolygon's crossings (its pairs i, j = i - 1: edge e read from e + 1 to e), over the
+  // edges of the point's band: an edge that the ray meets spans the point's height
+  const int n = static_cast<int>(m_poly.cols());
+  const int band = Band(p.y());
+  bool inside = false;
+  for (int k = m_start[band]; k < m_start[band + 1]; ++k) {
+    const int e = m_edges[static_cast<size_t>(k)];
+    const Vec2 a = m_poly.col(e + 1 < n ? e + 1 : 0);
+    const Vec2 b = m_poly.col(e);
+    if ((a.y() > p.y()) != (b.y() > p.y())) {
+      const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      if (p.x() < x) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+bool PolygonBands::Within(const Vec2& p, double margin) const {
+  // DistanceToBoundary's segments (e, e + 1) in the bands within the margin; an edge whose box
+  // lies farther than the margin (by more than rounding could move a distance) is not measured
+  const int n = static_cast<int>(m_poly.cols());
+  if (n == 0 || !(margin >= 0.0)) return false;
+  const double reach = margin * (1.0 + 1e-12) + 1e-12;
+  const int first = Band(p.y() - reach), last = Band(p.y() + reach);
+  for (int band = first; band <= last; ++band) {
+    for (int k = m_start[band]; k < m_start[band + 1]; ++k) {
+      const int e = m_edges[static_cast<size_t>(k)];
+      const Vec2 a = m_poly.col(e);
+      const Vec2 b = m_poly.col(e + 1 < n ? e + 1 : 0);
+      if (p.x() < std::min(a.x(), b.x()) - reach || p.x() > std::max(a.x(), b.x()) + reach ||
+          p.y() < std::min(a.y(), b.y()) - reach || p.y() > std::max(a.y(), b.y()) + reach) {
+        continue;
+      }
+      if (DistanceToSegment(p, a, b) <= margin) return true;
+    }
+  }
+  return false;
+}
+
 double HausdorffDistance(const Contour& a, const Contour& b) {
   double worst = 0.0;
   for (int i = 0; i < a.cols(); ++i) worst = std::max(worst, DistanceToBoundary(b, a.col(i)));

@@ -3,8 +3,6 @@
 #include "proxygrasp/core/params.h"
 
 #include <algorithm>
-#include <cmath>
-#include <vector>
 
 namespace pg {
 namespace {
@@ -19,95 +17,6 @@ constexpr double kMinPartCoverage = 0.25;
 // how much of the distance a contact's last velocity carries it between frames is uncertain
 constexpr double kVelocityUncertainty = 0.25;
 
-// An outline's edges by horizontal bands of its height, for Coverage's two questions about many
-// points: is a point inside (PointInPolygon's ray meets only the edges whose height range holds
-// the point's), and is it within the margin of an edge (DistanceToBoundary(poly, p) <= margin:
-// only edges within the margin's height can be, the first one found answers, and an edge whose
-// box lies beyond the margin is not measured). The same answers as those two functions, edge
-// for edge: Coverage runs them for most points of every continuing contact's outline each frame,
-// and over whole outlines they took 1 ms a frame of four spread hands.
-class BandedOutline {
- public:
-  BandedOutline(const Contour& poly, double margin) : m_poly(poly), m_margin(margin) {
-    const int n = static_cast<int>(poly.cols());
-    // a box farther than the margin by more than rounding could move a distance
-    m_reach = margin * (1.0 + 1e-12) + 1e-12;
-    m_y0 = poly.row(1).minCoeff();
-    const double height = poly.row(1).maxCoeff() - m_y0;
-    m_bands = std::clamp(n / 4, 1, 64);
-    m_height = height > 0.0 ? height / m_bands : 1.0;
-    // edge e joins points e and e + 1; listed in every band its height range meets
-    m_start.assign(static_cast<size_t>(m_bands) + 1, 0);
-    for (int pass = 0; pass < 2; ++pass) {
-      if (pass == 1) {
-        for (int b = 0; b < m_bands; ++b) m_start[b + 1] += m_start[b];
-        m_edges.resize(static_cast<size_t>(m_start[m_bands]));
-        m_fill.assign(m_start.begin(), m_start.end() - 1);
-      }
-      for (int e = 0; e < n; ++e) {
-        const double ya = poly(1, e), yb = poly(1, e + 1 < n ? e + 1 : 0);
-        const int lo = Band(std::min(ya, yb)), hi = Band(std::max(ya, yb));
-        for (int b = lo; b <= hi; ++b) {
-          if (pass == 0)
-            ++m_start[b + 1];
-          else
-            m_edges[static_cast<size_t>(m_fill[b]++)] = e;
-        }
-      }
-    }
-  }
-
-  // inside the outline or within the margin of it
-  bool Covers(const Vec2& p) const { return Inside(p) || Near(p); }
-
- private:
-  int Band(double y) const {
-    const double b = std::floor((y - m_y0) / m_height);
-    return static_cast<int>(std::clamp(b, 0.0, static_cast<double>(m_bands - 1)));
-  }
-
-  // PointInPolygon's crossings, over the edges of the point's band
-  bool Inside(const Vec2& p) const {
-    const int n = static_cast<int>(m_poly.cols());
-    const int band = Band(p.y());
-    bool inside = false;
-    for (int k = m_start[band]; k < m_start[band + 1]; ++k) {
-      const int e = m_edges[static_cast<size_t>(k)];
-      const Vec2 a = m_poly.col(e + 1 < n ? e + 1 : 0);  // PointInPolygon's (i, j = i - 1)
-      const Vec2 b = m_poly.col(e);
-      if ((a.y() > p.y()) != (b.y() > p.y())) {
-        const double x = a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
-        if (p.x() < x) inside = !inside;
-      }
-    }
-    return inside;
-  }
-
-  // DistanceToBoundary's segments (e, e + 1), over the bands within the margin
-  bool Near(const Vec2& p) const {
-    const int n = static_cast<int>(m_poly.cols());
-    const int first = Band(p.y() - m_reach), last = Band(p.y() + m_reach);
-    for (int band = first; band <= last; ++band) {
-      for (int k = m_start[band]; k < m_start[band + 1]; ++k) {
-        const int e = m_edges[static_cast<size_t>(k)];
-        const Vec2 a = m_poly.col(e);
-        const Vec2 b = m_poly.col(e + 1 < n ? e + 1 : 0);
-        if (p.x() < std::min(a.x(), b.x()) - m_reach || p.x() > std::max(a.x(), b.x()) + m_reach ||
-            p.y() < std::min(a.y(), b.y()) - m_reach || p.y() > std::max(a.y(), b.y()) + m_reach) {
-          continue;
-        }
-        if (DistanceToSegment(p, a, b) <= m_margin) return true;
-      }
-    }
-    return false;
-  }
-
-  const Contour& m_poly;
-  double m_margin, m_reach, m_y0, m_height;
-  int m_bands;
-  std::vector<int> m_start, m_fill, m_edges;
-};
-
 // the fraction of the points of `points`, moved by `shift`, that lie inside the blob's outline or
 // within `margin` of it
 double Coverage(const Contour& points, const Vec2& shift, const Blob& blob, double margin) {
@@ -116,12 +25,15 @@ double Coverage(const Contour& points, const Vec2& shift, const Blob& blob, doub
   // the bounds from the outline itself: a blob made by hand may not carry them
   const Vec2 lo = Vec2(blob.contour.rowwise().minCoeff()) - Vec2(margin, margin);
   const Vec2 hi = Vec2(blob.contour.rowwise().maxCoeff()) + Vec2(margin, margin);
-  const BandedOutline outline(blob.contour, margin);
+  // PolygonBands: Coverage asks about most points of every continuing contact's outline each
+  // frame, and asked of whole outlines (PointInPolygon, DistanceToBoundary) that took 1 ms a
+  // frame of four spread hands
+  const PolygonBands outline(blob.contour);
   int covered = 0;
   for (Eigen::Index k = 0; k < n; ++k) {
     const Vec2 p = points.col(k) + shift;
     if (p.x() < lo.x() || p.y() < lo.y() || p.x() > hi.x() || p.y() > hi.y()) continue;
-    if (outline.Covers(p)) ++covered;
+    if (outline.Inside(p) || outline.Within(p, margin)) ++covered;
   }
   return static_cast<double>(covered) / static_cast<double>(n);
 }

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace pg {
 namespace {
@@ -116,6 +118,64 @@ TEST(Geometry, PointInPolygonAndSignedDistance) {
   EXPECT_NEAR(SignedDistance(s, Vec2(1, 0.5)), 0.5, kExact);
   EXPECT_NEAR(SignedDistance(s, Vec2(3, 1)), -1.0, kExact);
   EXPECT_NEAR(SignedDistance(s, Vec2(3, 3)), -std::sqrt(2.0), kExact);
+}
+
+// PolygonBands answers as PointInPolygon and DistanceToBoundary <= margin do, point for point:
+// on a square (edges along the bands, points on its edges and corners), a flat segment's worth of
+// outline (no height), a jagged star and random wiggly outlines (a hand's size and spacing),
+// with points inside, outside, on the outline and exactly at a margin's distance from a vertex.
+TEST(Geometry, PolygonBandsAnswersAsTheWholeOutlineDoes) {
+  std::vector<Contour> polys = {Square(2.0), ToContour({{0, 1}, {3, 1}, {1, 1}}), Circle(1.5, 7)};
+  Contour star(2, 40);
+  for (int i = 0; i < 40; ++i) {
+    const double a = 2.0 * kPi * i / 40, r = i % 2 == 0 ? 3.0 : 1.2;
+    star.col(i) = Vec2(r * std::cos(a), r * std::sin(a));
+  }
+  polys.push_back(star);
+  uint64_t state = 12345;
+  auto uniform = [&state](double lo, double hi) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) / static_cast<double>(1ULL << 53);
+  };
+  for (int k = 0; k < 3; ++k) {
+    // about 0.3 cm apart, as the sensor resamples, round a radius that wanders
+    Contour wiggly(2, 200);
+    for (int i = 0; i < 200; ++i) {
+      const double a = 2.0 * kPi * i / 200;
+      const double r = 8.0 + 2.5 * std::sin(5 * a + k) + uniform(-0.2, 0.2);
+      wiggly.col(i) = Vec2(20.0 + r * std::cos(a), 15.0 + r * std::sin(a));
+    }
+    polys.push_back(wiggly);
+  }
+  int inside = 0, within = 0, asked = 0;
+  for (const Contour& poly : polys) {
+    const PolygonBands bands(poly);
+    const Vec2 lo = poly.rowwise().minCoeff(), hi = poly.rowwise().maxCoeff();
+    std::vector<Vec2> points;
+    for (int i = 0; i < 400; ++i)
+      points.emplace_back(uniform(lo.x() - 1.0, hi.x() + 1.0), uniform(lo.y() - 1.0, hi.y() + 1.0));
+    for (int i = 0; i < poly.cols(); ++i) {
+      const Vec2 a = poly.col(i), b = poly.col((i + 1) % poly.cols());
+      points.push_back(a);
+      points.push_back(0.5 * (a + b));
+      points.push_back(a + Vec2(0.25, 0.0));  // exactly 0.25 from the vertex, for margin 0.25
+    }
+    for (const Vec2& p : points) {
+      ++asked;
+      const bool in = PointInPolygon(poly, p);
+      ASSERT_EQ(bands.Inside(p), in) << "at " << p.transpose();
+      inside += in ? 1 : 0;
+      for (double margin : {0.0, 0.05, 0.25, 1.0}) {
+        const bool near = DistanceToBoundary(poly, p) <= margin;
+        ASSERT_EQ(bands.Within(p, margin), near) << "at " << p.transpose() << " margin " << margin;
+        within += near ? 1 : 0;
+      }
+    }
+  }
+  // both answers came out both ways
+  EXPECT_GT(inside, 100);
+  EXPECT_LT(inside, asked - 100);
+  EXPECT_GT(within, 100);
 }
 
 TEST(Geometry, DistanceToSegmentEndsAndMiddle) {

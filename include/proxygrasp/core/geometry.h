@@ -78,6 +78,28 @@ double DistanceToBoundary(const Contour& poly, const Vec2& p);
 /// Signed distance to the polygon boundary: positive inside, negative outside.
 double SignedDistance(const Contour& poly, const Vec2& p);
 
+/// A closed polygon's edges listed by horizontal bands of its height, for asking the same two
+/// questions about many points: Inside(p) is PointInPolygon(poly, p) and Within(p, margin) is
+/// DistanceToBoundary(poly, p) <= margin, with the same answers, edge for edge, but each reads
+/// only the edges of the bands that can matter (the ray's crossings lie in the point's band; an
+/// edge within the margin lies in the bands within it, and the first one found answers). Holds a
+/// reference to `poly`, which must outlive it and not change.
+class PolygonBands {
+ public:
+  explicit PolygonBands(const Contour& poly);
+  bool Inside(const Vec2& p) const;
+  bool Within(const Vec2& p, double margin) const;
+
+ private:
+  int Band(double y) const;
+
+  const Contour& m_poly;
+  double m_y0 = 0.0, m_height = 1.0;
+  int m_bands = 1;
+  std::vector<int> m_start;  // band b's edges are m_edges[m_start[b], m_start[b + 1])
+  std::vector<int> m_edges;  // edge e joins points e and e + 1 (cyclically)
+};
+
 /// Symmetric Hausdorff distance between two closed polylines, measured from every vertex of each to
 /// the boundary (edges) of the other.
 double HausdorffDistance(const Contour& a, const Contour& b);
