@@ -43,7 +43,7 @@ void SpanHighpass::Begin(const cv::Mat& src) {
   assert(m_width > 0 && "Configure comes first");
   m_src = src;
   m_row = -1;
-  m_sums.assign(static_cast<size_t>(src.cols + 2 * m_radius), 0u);
+  m_sums.resize(static_cast<size_t>(src.cols + 2 * m_radius));  // summed afresh at the first row
   m_prefix.resize(static_cast<size_t>(src.cols + 2 * m_radius + 1));
 }
 
@@ -70,6 +70,11 @@ void SpanHighpass::MoveTo(int y) {
   std::fill(m_sums.begin(), m_sums.begin() + r, sums[0]);
   std::fill(m_sums.begin() + r + cols, m_sums.end(), sums[cols - 1]);
   m_row = y;
+}
+
+uint8_t SpanHighpass::Level(uint8_t s, uint32_t box) const {
+  const int mean = RoundFloat(static_cast<float>(box) * m_scale);
+  return static_cast<uint8_t>(std::max(0, s - std::min(mean, static_cast<int>(m_cap))));
 }
 
 uint8_t SpanHighpass::Gain(uint8_t h) const {
@@ -119,10 +124,8 @@ void SpanHighpass::Span(int y, int x0, int x1, cv::Mat& highpass, cv::Mat& gaine
   }
 #endif
   for (; j < n; ++j) {
-    const int mean = RoundFloat(static_cast<float>(prefix[j + w] - prefix[j]) * m_scale);
-    const int level = std::max(0, s[j] - std::min(mean, static_cast<int>(m_cap)));
-    h[j] = static_cast<uint8_t>(level);
-    if (g) g[j] = Gain(static_cast<uint8_t>(level));
+    h[j] = Level(s[j], prefix[j + w] - prefix[j]);
+    if (g) g[j] = Gain(h[j]);
   }
 }
 
@@ -133,9 +136,7 @@ uint8_t SpanHighpass::At(int x, int y) const {
     const uint8_t* p = m_src.ptr<uint8_t>(std::clamp(v, 0, rows - 1));
     for (int u = x - r; u <= x + r; ++u) box += p[std::clamp(u, 0, cols - 1)];
   }
-  const int mean = RoundFloat(static_cast<float>(box) * m_scale);
-  return static_cast<uint8_t>(
-      std::max(0, m_src.ptr<uint8_t>(y)[x] - std::min(mean, static_cast<int>(m_cap))));
+  return Level(m_src.ptr<uint8_t>(y)[x], box);
 }
 
 }  // namespace pg

@@ -647,7 +647,6 @@ void Sensor::Filter(bool whole, double level) {
     const cv::Size size = m_smoothed.size();
     Unshare(m_highpass, {&m_subtracted, &m_smoothed});
     m_highpass.create(size, CV_8UC1);
-    m_wide.create(size, CV_8UC1);
     if (gained) {
       Unshare(m_normalized, {&m_subtracted, &m_smoothed, &m_highpass});
       m_normalized.create(size, CV_8UC1);
@@ -657,7 +656,7 @@ void Sensor::Filter(bool whole, double level) {
     m_areas.clear();
     m_areasOnly = !whole;
     if (whole) {
-      HighpassOver(cv::Rect(0, 0, size.width, size.height), width);
+      HighpassWhole(width);
     } else {
       HighpassWhereContactsCanBe(width, level);
     }
@@ -674,18 +673,11 @@ void Sensor::Filter(bool whole, double level) {
   }
 }
 
-void Sensor::HighpassOver(const cv::Rect& rect, int width) {
-  // The blur of a part of an image reads the pixels around that part (the image's own border is
-  // replicated), so its values there are those of the whole image's blur.
-  cv::Mat wide = m_wide(rect);
-  cv::blur(m_smoothed(rect), wide, cv::Size(width, width), cv::Point(-1, -1), cv::BORDER_REPLICATE);
-  if (m_params.highpassCap < 255.0) cv::min(wide, m_params.highpassCap, wide);
-  cv::Mat highpass = m_highpass(rect);
-  cv::subtract(m_smoothed(rect), wide, highpass);
-  if (m_params.gain != 1.0) {
-    cv::Mat out = m_normalized(rect);
-    highpass.convertTo(out, CV_8UC1, m_params.gain);
-  }
+void Sensor::HighpassWhole(int width) {
+  cv::blur(m_smoothed, m_wide, cv::Size(width, width), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  if (m_params.highpassCap < 255.0) cv::min(m_wide, m_params.highpassCap, m_wide);
+  cv::subtract(m_smoothed, m_wide, m_highpass);
+  if (m_params.gain != 1.0) m_highpass.convertTo(m_normalized, CV_8UC1, m_params.gain);
 }
 
 void Sensor::HighpassWhereContactsCanBe(int width, double level) {
@@ -738,10 +730,9 @@ void Sensor::HighpassWhereContactsCanBe(int width, double level) {
     }
   }
 
-  // Each group of marked tiles (touching at a side or a corner) is worked out as one rectangle,
-  // its bounding box (HighpassOver): the blur of a rectangle reads width / 2 px all round it, so
-  // few large rectangles read less than many small ones. Rectangles of two groups may overlap;
-  // the overlap is worked out twice, with the same values.
+  // Each group of marked tiles (touching at a side or a corner) gives one rectangle, its bounding
+  // box: the areas (m_areas) the fingertip search scans and the opening works in. Rectangles of
+  // two groups may overlap.
   m_tileStack.clear();
   for (int start = 0; start < tileRows * tileCols; ++start) {
     if (m_tileMarks[static_cast<size_t>(start)] != 1) continue;

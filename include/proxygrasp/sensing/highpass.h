@@ -38,6 +38,8 @@ class SpanHighpass {
   // the column sums of the rows [y - r, y + r] (border replicated), row m_row, with r
   // replicated entries on each side: m_sums[r + x] is column x's
   void MoveTo(int y);
+  // the high-pass of level s whose box sums to `box`
+  uint8_t Level(uint8_t s, uint32_t box) const;
 
   int m_width = 0, m_radius = 0;
   uint8_t m_cap = 0;

@@ -105,11 +105,11 @@ class Sensor {
   void BuildTableMaps();
   // `level` is the threshold the tiles of HighpassWhereContactsCanBe are marked for
   void Filter(bool whole, double level);
-  // the high-pass and the gain in the tiles where a contact can be (SetWholeStages(false)), into
-  // the stage images Filter has made ready
+  // the high-pass and the gain along the spans of rows where a contact can be
+  // (SetWholeStages(false)), into the stage images Filter has made ready
   void HighpassWhereContactsCanBe(int width, double level);
-  // the high-pass (box blur `width` px) and the gain over one rectangle of the frame
-  void HighpassOver(const cv::Rect& rect, int width);
+  // the high-pass (box blur `width` px) and the gain over the whole frame
+  void HighpassWhole(int width);
   // returns the time since the last frame (0 for the first frame or one at the same time)
   double LearnBackground(double time);
   // the adaptive threshold (gained grey) with this brightest touch remembered
