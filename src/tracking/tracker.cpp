@@ -3,6 +3,7 @@
 #include "proxygrasp/core/params.h"
 
 #include <algorithm>
+#include <optional>
 
 namespace pg {
 namespace {
@@ -27,13 +28,15 @@ double Coverage(const Contour& points, const Vec2& shift, const Blob& blob, doub
   const Vec2 hi = Vec2(blob.contour.rowwise().maxCoeff()) + Vec2(margin, margin);
   // PolygonBands: Coverage asks about most points of every continuing contact's outline each
   // frame, and asked of whole outlines (PointInPolygon, DistanceToBoundary) that took 1 ms a
-  // frame of four spread hands
-  const PolygonBands outline(blob.contour);
+  // frame of four spread hands. Made when a first point lies within the bounds: most pairs of
+  // contacts lie apart.
+  std::optional<PolygonBands> outline;
   int covered = 0;
   for (Eigen::Index k = 0; k < n; ++k) {
     const Vec2 p = points.col(k) + shift;
     if (p.x() < lo.x() || p.y() < lo.y() || p.x() > hi.x() || p.y() > hi.y()) continue;
-    if (outline.Inside(p) || outline.Within(p, margin)) ++covered;
+    if (!outline) outline.emplace(blob.contour);
+    if (outline->Inside(p) || outline->Within(p, margin)) ++covered;
   }
   return static_cast<double>(covered) / static_cast<double>(n);
 }
