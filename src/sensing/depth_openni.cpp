@@ -7,6 +7,7 @@
 #include <OpenNI.h>
 #endif
 
+#include <algorithm>
 #include <mutex>
 
 namespace pg {
@@ -64,12 +65,17 @@ class OpenNiSource : public FrameSource {
       return MakeError({m_spec},
                        std::string("cannot create the depth stream: ") + LastOpenNiError());
     if (m_file) {
-      // one frame per read, as fast as the pipeline takes them, and no looping
+      // One frame per read, as fast as the pipeline takes them. The recording's end is its frame
+      // count where the file gives one, and the player is left to loop: a player that stops at
+      // the end spins over its stream list, unlocked, until the stream is destroyed, and
+      // destroying it then races that loop (a crash under load). Looping, the player instead
+      // waits for the next read's trigger, holding no reference to the list. Without a frame
+      // count the end is the player's own, with no looping.
       openni::PlaybackControl* playback = m_device.getPlaybackControl();
       if (playback) {
         playback->setSpeed(-1.0f);
-        playback->setRepeatEnabled(false);
-        m_frameCount = playback->getNumberOfFrames(m_depth);
+        m_frameCount = std::max(playback->getNumberOfFrames(m_depth), 0);
+        playback->setRepeatEnabled(m_frameCount > 0);
       }
     }
     if (m_depth.start() != openni::STATUS_OK)
