@@ -1114,9 +1114,36 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
                                     (grip0.radius + physics.particleRadius)
                               : 0.0;
       const double keep = std::max(0.0, 1.0 - tilt);
-      const double slideMargin =
+      double slideMargin =
           std::min(across > 0 ? muP * std::max(p.normalForce, along) * keep / across : kInfinity,
                    along > 0 ? push / along : kInfinity);
+      // Twelfth revision (docs/physics.md, "A round slice carried across a pinch"): the normals
+      // on a round slice pass through its centre, so only friction turns it, and a slice sliding
+      // on the table is turned back by almost nothing. In a pinch of two fingertips, one a side,
+      // friction across the axis must then come from the two sides in equal shares, as their
+      // torques about the centre cancel, and the side that presses less (the trailing side, once
+      // the leading side pushes `along`) bounds it: across <= 2 mu_p min(N_lead, N_trail) (with
+      // the tilt's `keep`), each side's normal forces taken where the object lags far enough
+      // behind the grip for their sum along the lead to push `along`. Two fingertips against a
+      // thumb also cradle the slice with their normals, which this does not model: there the
+      // rule keeps its earlier form.
+      if (grip0.circle && fingers == 2 && across > 0.0) {
+        double nLead = 0.0, nTrail = 0.0;
+        constexpr int kAxialLags = 64;
+        for (int j = 0; j <= kAxialLags; ++j) {
+          const double l = physics.gripMaxDepth * j / kAxialLags;
+          double pushed = 0.0, a = 0.0, b = 0.0;
+          for (size_t i = 0; i < fingers; ++i) {
+            const Vec2 f = laggedForce(i, shift, shift - lead * l);
+            pushed += f.dot(lead);
+            (s.fingers[i].inward.dot(lead) > 0.0 ? a : b) += f.norm();
+          }
+          nLead = a;
+          nTrail = b;
+          if (pushed >= along) break;
+        }
+        slideMargin = std::min(slideMargin, 2.0 * muP * std::min(nLead, nTrail) * keep / across);
+      }
       // Breaking loose: the table's static friction gives way to a force of mu_s W in any
       // direction. While the object is stuck the grip moves on along u; it lags l along the axis
       // (the leading side presses deeper) and l tan(angle) across it, where each pressing body

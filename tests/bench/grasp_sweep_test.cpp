@@ -221,6 +221,46 @@ TEST(GraspRule, ACarryAcrossAPinchedRoundSliceLosesWhatTheTiltingNormalsTakeBack
   EXPECT_NEAR(p.margin, 0.8 * p.normalForce * (1.0 - dbar / rho) / p.requirement, 1e-9 * p.margin);
 }
 
+TEST(GraspRule, ACarryObliqueToAPinchedRoundSliceIsHeldByTheSideThatPressesLess) {
+  // The pinch above carried 50 degrees off its axis. The normals pass through the slice's centre,
+  // so only the two sides' friction turns it, and sliding on the table it is turned back by
+  // almost nothing: the sides must give equal shares of the force across (their torques about
+  // the centre cancel), so across the grip holds at most 2 mu_p N_trail (1 - dbar / rho), where
+  // the trailing side presses less than the leading one by what the leading side pushes along
+  // the axis. With both sides' bodies alike and their normals close to the axis (the contour is
+  // 0.4 cm inside a slice of radius 2: the pressing arc lies within 30 degrees of the axis, where
+  // a body's force along the axis is its magnitude within 1 - cos 30 = 13%, and the arc's mean
+  // within 5%), a lag l shifts k n l from the trailing side to the leading one, N / 2 -+ along / 2
+  // each: the margin across is mu_p (N - along) (1 - dbar / rho) / across, 5% (the arc's spread,
+  // above) plus the lag's 1/64 d_max steps (k n d_max / 64 = 3%) of N_trail either way.
+  const PhysicsParams physics;
+  GraspScene s = OpposedBoxScene(0.4, 0.8);
+  const double mass = 1000.0;  // heavy: what the leading side pushes is half the grip's force
+  s.object = Cylinder(2.0, mass);
+  s.object.tableStatic = 0.25;  // low, so that breaking loose is not what bounds the grip
+  s.object.tableKinetic = 0.25;
+  s.object.particleFriction = 0.8;
+  const double angle = DegToRad(50.0);
+  SetCarry(s, Vec2(std::cos(angle), std::sin(angle)), 10.0, 5.0, Vec2(30.5, 23.0));
+  const GraspPrediction p = PredictGrasp(s, physics, 0.3);
+  double bodies = 0.0;
+  for (const GraspFinger& f : s.fingers) {
+    double pressing = 0.0;
+    FingertipForce(s.object, physics, 0.3, f.pos, f.pos, f.radius, f.inward, &pressing);
+    bodies += pressing;
+  }
+  const double n = p.normalForce;
+  const double keep = 1.0 - n / (physics.gripStiffness * bodies) / (2.0 + physics.particleRadius);
+  const double sliding = 0.25 * mass * physics.gravity + mass * 5.0 * 5.0 / 10.0;
+  const double along = sliding * std::cos(angle), across = sliding * std::sin(angle);
+  const double expected = 0.8 * (n - along) * keep / across;
+  EXPECT_NEAR(p.margin, expected, 0.08 * expected);
+  // Without the torques' balance the rule took friction on both sides' whole force, which this
+  // grip's trailing side cannot give: that called the grip able to hold (margin 1.05).
+  EXPECT_LT(p.margin, 1.0);
+  EXPECT_GT(0.8 * n * keep / across, 2.0 * expected);
+}
+
 // A thumb on a cylinder's -x side against two fingertips on its +x side that part after a slow
 // carry (a split), contours `depth` inside, the pieces' centres going from `from` to `to` either
 // side of the axis.
