@@ -1144,6 +1144,45 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         }
         slideMargin = std::min(slideMargin, 2.0 * muP * std::min(nLead, nTrail) * keep / across);
       }
+      // Thirteenth revision (docs/physics.md, "A round slice cradled against a thumb"): with two
+      // or more fingertips against a thumb the pair's normals also push across once the object
+      // lags across by x, the nearer fingertip pressing deeper (a cradle), and they turn nothing.
+      // Each body is taken where it meets the slice as its target comes in with the object
+      // displaced (`force`: a body that slides round the slice, its normal tilted), so that the
+      // normals' push across holds both the cradle and the tilt that pushes a pinched slice
+      // out. To that the springs add friction k n x, up to what the sides give in equal shares,
+      // 2 mu_p min(N_lead, N_trail), the sides' forces taken where they also push `along`.
+      // Across the grip holds the most of that over x up to the springs' stretch at friction
+      // plus the slip that still counts as holding.
+      if (grip0.circle && fingers > 2 && across > 0.0) {
+        const Vec2 w = (u - u.dot(axis) * axis).normalized();
+        auto sides = [&](double l, double x, double* pushed, double* normalsAcross, double n[2]) {
+          *pushed = *normalsAcross = 0.0;
+          n[0] = n[1] = 0.0;
+          for (size_t i = 0; i < fingers; ++i) {
+            const Vec2 f = force(i, shift - lead * l - w * x);
+            *pushed += f.dot(lead);
+            *normalsAcross += f.dot(w);
+            n[s.fingers[i].inward.dot(lead) > 0.0 ? 0 : 1] += f.norm();
+          }
+        };
+        const double kk = physics.gripStiffness;
+        const double elastic = bodiesAtRest > 0.0 ? muP * p.normalForce / (kk * bodiesAtRest) : 0.0;
+        const double reach = elastic + kBreakLooseSlip;
+        constexpr int kAcrossLags = 16, kAxialLags = 32;
+        double best = 0.0;
+        for (int jx = 0; jx <= kAcrossLags; ++jx) {
+          const double x = reach * jx / kAcrossLags;
+          double pushed = 0.0, normalsAcross = 0.0, n[2] = {0.0, 0.0};
+          for (int jl = 0; jl <= kAxialLags; ++jl) {
+            sides(physics.gripMaxDepth * jl / kAxialLags, x, &pushed, &normalsAcross, n);
+            if (pushed >= along) break;
+          }
+          const double f = std::min(kk * bodiesAtRest * x, 2.0 * muP * std::min(n[0], n[1]));
+          best = std::max(best, normalsAcross + f);
+        }
+        slideMargin = std::min(along > 0 ? push / along : kInfinity, best / across);
+      }
       // Breaking loose: the table's static friction gives way to a force of mu_s W in any
       // direction. While the object is stuck the grip moves on along u; it lags l along the axis
       // (the leading side presses deeper) and l tan(angle) across it, where each pressing body

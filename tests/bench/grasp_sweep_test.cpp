@@ -261,6 +261,77 @@ TEST(GraspRule, ACarryObliqueToAPinchedRoundSliceIsHeldByTheSideThatPressesLess)
   EXPECT_GT(0.8 * n * keep / across, 2.0 * expected);
 }
 
+// A thumb on the -x side of a cylinder of radius 2 against two fingertips on its +x side, 0.9 cm
+// either side of the axis (apart, not touching), contours 0.4 cm inside; the cylinder weighs
+// `mass` (table friction 0.3 static and kinetic, mu_p 0.3) and is carried 10 cm at a peak of 5 cm/s
+// at `degrees` to the axis.
+GraspScene ThumbAgainstTwoOnACylinder(double mass, double degrees) {
+  GraspScene s;
+  s.object = Cylinder(2.0, mass);
+  s.object.tableStatic = 0.3;
+  s.object.tableKinetic = 0.3;
+  s.object.particleFriction = 0.3;
+  s.depth = 0.4;
+  const double fingerRadius = 0.8, reach = 2.0 + fingerRadius - s.depth;
+  GraspFinger thumb;
+  thumb.radius = fingerRadius;
+  thumb.inward = Vec2(1.0, 0.0);
+  thumb.pos = Vec2(-reach, 0.0);
+  s.fingers = {thumb};
+  for (double side : {-1.0, 1.0}) {
+    GraspFinger f;
+    f.radius = fingerRadius;
+    f.inward = Vec2(-1.0, 0.0);
+    f.pos = Vec2(std::sqrt(reach * reach - 0.81), side * 0.9);
+    s.fingers.push_back(f);
+  }
+  const double a = DegToRad(degrees);
+  SetCarry(s, Vec2(std::cos(a), std::sin(a)), 10.0, 5.0, Vec2(30.5, 23.0));
+  return s;
+}
+
+TEST(GraspRule, ARoundSliceAgainstAThumbIsCarriedAcrossByEqualFrictionOnBothSides) {
+  const PhysicsParams physics;
+  const double mu = 0.3, k = physics.gripStiffness, rho = 2.0 + physics.particleRadius;
+  // sliding: mu_k W + M v^2 / D
+  auto sliding = [&](double mass) { return mu * mass * physics.gravity + mass * 25.0 / 10.0; };
+  // Carried straight across (nothing along the axis), 100 g. The normals pass through the
+  // centre, so only friction turns the slice, and the thumb's side and the pair's must give equal
+  // shares: at most 2 mu_p N_thumb, the thumb pressing less than the pair (it balances only their
+  // part along the axis: N_thumb <= N / 2, and >= N cos 40 / (1 + cos 40) = 0.43 N, the pair's
+  // bodies pressing within 40 degrees of the axis). Moved across by x, every normal tilts by
+  // x / rho and pushes the slice on out by N x / rho, while the pair's fingertip behind presses
+  // deeper and pushes it back (the cradle), by at most the pair's force times sin 40 = 0.64. The
+  // springs give friction k n x up to the shares' bound, so across the grip holds at least
+  // 2 mu_p N_thumb - (N / rho) (x* + reach / 16), x* = mu_p N / (k n) the stretch at which
+  // friction saturates and reach / 16 the rule's step in x (reach = x* + 0.5 cm), and at most
+  // 2 mu_p N_thumb + 0.64 (N - N_thumb).
+  const GraspScene straight = ThumbAgainstTwoOnACylinder(100.0, 90.0);
+  const GraspPrediction p = PredictGrasp(straight, physics, 0.3);
+  double bodies = 0.0;
+  for (const GraspFinger& f : straight.fingers) {
+    double pressing = 0.0;
+    FingertipForce(straight.object, physics, 0.3, f.pos, f.pos, f.radius, f.inward, &pressing);
+    bodies += pressing;
+  }
+  const double n = p.normalForce, across = sliding(100.0);
+  const double stretch = mu * n / (k * bodies), reach = stretch + 0.5;
+  const double lower = 2.0 * mu * 0.43 * n - n / rho * (stretch + reach / 16.0);
+  const double upper = 2.0 * mu * 0.5 * n + 0.64 * 0.57 * n;
+  EXPECT_GT(p.margin * across, lower);
+  EXPECT_LT(p.margin * across, upper);
+  // Carried 50 degrees off the axis, 450 g: the thumb pushes 0.64 of the sliding force along the
+  // axis, so the pair behind it presses less by about half of that and the shares' bound falls
+  // by mu_p times the push, 0.3 x 86,000 = 26,000 dyn; whatever the sides' stiffness, by more
+  // than a fifth of that. (Friction on both sides' whole force, mu_p max(N, along), would not
+  // fall at all.)
+  const GraspScene oblique = ThumbAgainstTwoOnACylinder(450.0, 50.0);
+  const GraspPrediction q = PredictGrasp(oblique, physics, 0.3);
+  const double along = sliding(450.0) * std::cos(DegToRad(50.0));
+  const double acrossOblique = sliding(450.0) * std::sin(DegToRad(50.0));
+  EXPECT_LT(q.margin * acrossOblique, p.margin * across - 0.2 * mu * along);
+}
+
 // A thumb on a cylinder's -x side against two fingertips on its +x side that part after a slow
 // carry (a split), contours `depth` inside, the pieces' centres going from `from` to `to` either
 // side of the axis.
