@@ -171,6 +171,18 @@ TEST(GraspRule, AFingertipPressesNothingClearOfTheFaceAndAtMostKDmaxPerPoint) {
   EXPECT_LE(deep.norm(), points * physics.gripStiffness * physics.gripMaxDepth + 1e-6);
 }
 
+// how many bodies of the scene's fingertips press the object at rest (averaged over the sample
+// phases), at the contour spacing 0.3 cm the rule tests use
+double PressingBodies(const GraspScene& s, const PhysicsParams& physics) {
+  double bodies = 0.0;
+  for (const GraspFinger& f : s.fingers) {
+    double pressing = 0.0;
+    FingertipForce(s.object, physics, 0.3, f.pos, f.pos, f.radius, f.inward, &pressing);
+    bodies += pressing;
+  }
+  return bodies;
+}
+
 TEST(GraspRule, ACarryAcrossAnOpposedGripNeedsTableFrictionAndInertiaAgainstFriction) {
   const PhysicsParams physics;
   GraspScene s = OpposedBoxScene(0.4, 0.8);
@@ -209,12 +221,7 @@ TEST(GraspRule, ACarryAcrossAPinchedRoundSliceLosesWhatTheTiltingNormalsTakeBack
   s.distance = 10.0;
   s.speed = 20.0;
   const GraspPrediction p = PredictGrasp(s, physics, 0.3);
-  double bodies = 0.0;
-  for (const GraspFinger& f : s.fingers) {
-    double pressing = 0.0;
-    FingertipForce(s.object, physics, 0.3, f.pos, f.pos, f.radius, f.inward, &pressing);
-    bodies += pressing;
-  }
+  const double bodies = PressingBodies(s, physics);
   const double dbar = p.normalForce / (physics.gripStiffness * bodies);
   const double rho = 2.0 + physics.particleRadius;
   EXPECT_GT(dbar, 0.1);  // the pinch is deep enough for the tilt to matter
@@ -243,12 +250,7 @@ TEST(GraspRule, ACarryObliqueToAPinchedRoundSliceIsHeldByTheSideThatPressesLess)
   const double angle = DegToRad(50.0);
   SetCarry(s, Vec2(std::cos(angle), std::sin(angle)), 10.0, 5.0, Vec2(30.5, 23.0));
   const GraspPrediction p = PredictGrasp(s, physics, 0.3);
-  double bodies = 0.0;
-  for (const GraspFinger& f : s.fingers) {
-    double pressing = 0.0;
-    FingertipForce(s.object, physics, 0.3, f.pos, f.pos, f.radius, f.inward, &pressing);
-    bodies += pressing;
-  }
+  const double bodies = PressingBodies(s, physics);
   const double n = p.normalForce;
   const double keep = 1.0 - n / (physics.gripStiffness * bodies) / (2.0 + physics.particleRadius);
   const double sliding = 0.25 * mass * physics.gravity + mass * 5.0 * 5.0 / 10.0;
@@ -308,12 +310,7 @@ TEST(GraspRule, ARoundSliceAgainstAThumbIsCarriedAcrossByEqualFrictionOnBothSide
   // 2 mu_p N_thumb + 0.64 (N - N_thumb).
   const GraspScene straight = ThumbAgainstTwoOnACylinder(100.0, 90.0);
   const GraspPrediction p = PredictGrasp(straight, physics, 0.3);
-  double bodies = 0.0;
-  for (const GraspFinger& f : straight.fingers) {
-    double pressing = 0.0;
-    FingertipForce(straight.object, physics, 0.3, f.pos, f.pos, f.radius, f.inward, &pressing);
-    bodies += pressing;
-  }
+  const double bodies = PressingBodies(straight, physics);
   const double n = p.normalForce, across = sliding(100.0);
   const double stretch = mu * n / (k * bodies), reach = stretch + 0.5;
   const double lower = 2.0 * mu * 0.43 * n - n / rho * (stretch + reach / 16.0);
