@@ -1124,9 +1124,8 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       // torques about the centre cancel, and the side that presses less (the trailing side, once
       // the leading side pushes `along`) bounds it: across <= 2 mu_p min(N_lead, N_trail) (with
       // the tilt's `keep`), each side's normal forces taken where the object lags far enough
-      // behind the grip for their sum along the lead to push `along`. Two fingertips against a
-      // thumb also cradle the slice with their normals, which this does not model: there the
-      // rule keeps its earlier form.
+      // behind the grip for their sum along the lead to push `along`. Two or more fingertips
+      // against a thumb also cradle the slice with their normals: the thirteenth revision, below.
       if (grip0.circle && fingers == 2 && across > 0.0) {
         double nLead = 0.0, nTrail = 0.0;
         constexpr int kAxialLags = 64;
@@ -1166,8 +1165,9 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
             n[s.fingers[i].inward.dot(lead) > 0.0 ? 0 : 1] += f.norm();
           }
         };
-        const double kk = physics.gripStiffness;
-        const double elastic = bodiesAtRest > 0.0 ? muP * p.normalForce / (kk * bodiesAtRest) : 0.0;
+        const double stiffness = physics.gripStiffness;
+        const double elastic =
+            bodiesAtRest > 0.0 ? muP * p.normalForce / (stiffness * bodiesAtRest) : 0.0;
         const double reach = elastic + kBreakLooseSlip;
         constexpr int kAcrossLags = 16, kAxialLags = 32;
         double best = 0.0;
@@ -1178,7 +1178,7 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
             sides(physics.gripMaxDepth * jl / kAxialLags, x, &pushed, &normalsAcross, n);
             if (pushed >= along) break;
           }
-          const double f = std::min(kk * bodiesAtRest * x, 2.0 * muP * std::min(n[0], n[1]));
+          const double f = std::min(stiffness * bodiesAtRest * x, 2.0 * muP * std::min(n[0], n[1]));
           best = std::max(best, normalsAcross + f);
         }
         slideMargin = std::min(along > 0 ? push / along : kInfinity, best / across);
