@@ -1117,6 +1117,31 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       double slideMargin =
           std::min(across > 0 ? muP * std::max(p.normalForce, along) * keep / across : kInfinity,
                    along > 0 ? push / along : kInfinity);
+      // The two sides of the grip (those pressing along the lead, and the rest) once the object
+      // lags far enough behind the grip along the lead, in `steps` steps of d_max, for their
+      // forces to push `along` (the last step when they never do), and by x across it (along w):
+      // what they push across, and each side's normal force. `forceOf(i, moved)` is fingertip
+      // i's force with the object moved from its rest shift to `moved`.
+      struct SideForces {
+        double across = 0.0;
+        double lead = 0.0, trail = 0.0;
+      };
+      auto sidesAtBalance = [&](auto&& forceOf, int steps, const Vec2& w, double x) {
+        SideForces r;
+        for (int j = 0; j <= steps; ++j) {
+          const double l = physics.gripMaxDepth * j / steps;
+          double pushed = 0.0;
+          r = SideForces{};
+          for (size_t i = 0; i < fingers; ++i) {
+            const Vec2 f = forceOf(i, Vec2(shift - lead * l - w * x));
+            pushed += f.dot(lead);
+            r.across += f.dot(w);
+            (s.fingers[i].inward.dot(lead) > 0.0 ? r.lead : r.trail) += f.norm();
+          }
+          if (pushed >= along) break;
+        }
+        return r;
+      };
       // Twelfth revision (docs/physics.md, "A round slice carried across a pinch"): the normals
       // on a round slice pass through its centre, so only friction turns it, and a slice sliding
       // on the table is turned back by almost nothing. In a pinch of two fingertips, one a side,
@@ -1124,24 +1149,15 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       // torques about the centre cancel, and the side that presses less (the trailing side, once
       // the leading side pushes `along`) bounds it: across <= 2 mu_p min(N_lead, N_trail) (with
       // the tilt's `keep`), each side's normal forces taken where the object lags far enough
-      // behind the grip for their sum along the lead to push `along`. Two or more fingertips
-      // against a thumb also cradle the slice with their normals: the thirteenth revision, below.
+      // behind the grip for their sum along the lead to push `along` (the bodies staying where
+      // they met the slice). Two or more fingertips against a thumb also cradle the slice with
+      // their normals: the thirteenth revision, below.
       if (grip0.circle && fingers == 2 && across > 0.0) {
-        double nLead = 0.0, nTrail = 0.0;
-        constexpr int kAxialLags = 64;
-        for (int j = 0; j <= kAxialLags; ++j) {
-          const double l = physics.gripMaxDepth * j / kAxialLags;
-          double pushed = 0.0, a = 0.0, b = 0.0;
-          for (size_t i = 0; i < fingers; ++i) {
-            const Vec2 f = laggedForce(i, shift, shift - lead * l);
-            pushed += f.dot(lead);
-            (s.fingers[i].inward.dot(lead) > 0.0 ? a : b) += f.norm();
-          }
-          nLead = a;
-          nTrail = b;
-          if (pushed >= along) break;
-        }
-        slideMargin = std::min(slideMargin, 2.0 * muP * std::min(nLead, nTrail) * keep / across);
+        const SideForces sides = sidesAtBalance(
+            [&](size_t i, const Vec2& moved) { return laggedForce(i, shift, moved); }, 64,
+            Vec2::Zero(), 0.0);
+        slideMargin =
+            std::min(slideMargin, 2.0 * muP * std::min(sides.lead, sides.trail) * keep / across);
       }
       // Thirteenth revision (docs/physics.md, "A round slice cradled against a thumb"): with two
       // or more fingertips against a thumb the pair's normals also push across once the object
@@ -1155,31 +1171,18 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       // plus the slip that still counts as holding.
       if (grip0.circle && fingers > 2 && across > 0.0) {
         const Vec2 w = (u - u.dot(axis) * axis).normalized();
-        auto sides = [&](double l, double x, double* pushed, double* normalsAcross, double n[2]) {
-          *pushed = *normalsAcross = 0.0;
-          n[0] = n[1] = 0.0;
-          for (size_t i = 0; i < fingers; ++i) {
-            const Vec2 f = force(i, shift - lead * l - w * x);
-            *pushed += f.dot(lead);
-            *normalsAcross += f.dot(w);
-            n[s.fingers[i].inward.dot(lead) > 0.0 ? 0 : 1] += f.norm();
-          }
-        };
         const double stiffness = physics.gripStiffness;
         const double elastic =
             bodiesAtRest > 0.0 ? muP * p.normalForce / (stiffness * bodiesAtRest) : 0.0;
         const double reach = elastic + kBreakLooseSlip;
-        constexpr int kAcrossLags = 16, kAxialLags = 32;
+        constexpr int kAcrossLags = 16;
         double best = 0.0;
         for (int jx = 0; jx <= kAcrossLags; ++jx) {
           const double x = reach * jx / kAcrossLags;
-          double pushed = 0.0, normalsAcross = 0.0, n[2] = {0.0, 0.0};
-          for (int jl = 0; jl <= kAxialLags; ++jl) {
-            sides(physics.gripMaxDepth * jl / kAxialLags, x, &pushed, &normalsAcross, n);
-            if (pushed >= along) break;
-          }
-          const double f = std::min(stiffness * bodiesAtRest * x, 2.0 * muP * std::min(n[0], n[1]));
-          best = std::max(best, normalsAcross + f);
+          const SideForces sides = sidesAtBalance(force, 32, w, x);
+          const double f =
+              std::min(stiffness * bodiesAtRest * x, 2.0 * muP * std::min(sides.lead, sides.trail));
+          best = std::max(best, sides.across + f);
         }
         slideMargin = std::min(along > 0 ? push / along : kInfinity, best / across);
       }
