@@ -622,36 +622,29 @@ Contour Transformed(const Contour& prev, const Pose2& motion) {
   return out;
 }
 
-ContourMotion EstimateMotion(const Contour& prev, const Contour& cur) {
-  ContourMotion r;
+namespace {
+
+// How Align treats the turn: found by the fit, decided on the first iteration from what the
+// outline shows (EstimateMotion), or held at its seed (a piece of an outline)
+enum class TurnRule { kDecide, kHeld };
+
+// Point-to-line alignment of prev against cur from the motion q = R(theta) (p - cPrev) + cPrev +
+// shift: each moved point against the nearest segment of cur, points far off the contour
+// weighted down, so that a local shape change does not pull the fit. Refines theta (unless held)
+// and shift; with TurnRule::kDecide, *observable says whether the outline shows its turning (when
+// it does not, the turn is held at 0). Returns the RMS distance of the moved points to cur.
+double Align(const Contour& prev, const Contour& cur, const Vec2& cPrev, TurnRule rule,
+             bool elongated, double* theta, Vec2* shift, bool* observable) {
   const int n = static_cast<int>(prev.cols());
   const int m = static_cast<int>(cur.cols());
-  if (n == 0 || m == 0 || !prev.allFinite() || !cur.allFinite()) return r;
-  const Vec2 cPrev = MeanOf(prev);
-  const Vec2 cCur = MeanOf(cur);
-  if (m < 3 || n < 3) {
-    r.motion.pos = cCur - cPrev;
-    return r;
-  }
-
-  // seed: the centroid shift, and the principal axis turn of an elongated outline (modulo half a
-  // turn, the smaller way round)
-  double aPrev = 0.0, rPrev = 1.0, aCur = 0.0, rCur = 1.0;
-  PrincipalAxis(prev, cPrev, &aPrev, &rPrev);
-  PrincipalAxis(cur, cCur, &aCur, &rCur);
-  double theta = 0.0;
-  const bool elongated = rPrev > kTurnElongation && rCur > kTurnElongation;
-  if (elongated) theta = std::remainder(aCur - aPrev, kPi);
-  Vec2 shift = cCur - cPrev;  // q = R(theta) (p - cPrev) + cPrev + shift
-
-  bool turnLocked = false;
+  bool turnLocked = rule == TurnRule::kHeld;
   const double recheck2 = FootRecheck2(cur, Perimeter(cur));
   std::vector<double> dist(n);
   Contour q(2, n);
   for (int it = 0; it < kAlignIterations; ++it) {
-    const double cs = std::cos(theta);
-    const double sn = std::sin(theta);
-    const Vec2 centre = cPrev + shift;
+    const double cs = std::cos(*theta);
+    const double sn = std::sin(*theta);
+    const Vec2 centre = cPrev + *shift;
     for (int k = 0; k < n; ++k) {
       const Vec2 d = prev.col(k) - cPrev;
       q.col(k) = Vec2(cs * d.x() - sn * d.y(), sn * d.x() + cs * d.y()) + centre;
@@ -683,12 +676,12 @@ ContourMotion EstimateMotion(const Contour& prev, const Contour& cur) {
       b -= w * e * j;
       polar += w * rel.squaredNorm();
     }
-    if (it == 0) {
-      r.turnObservable = elongated || (polar > 0.0 && a(0, 0) >= kTurnObservable * polar);
-      if (!r.turnObservable) {
+    if (it == 0 && rule == TurnRule::kDecide) {
+      *observable = elongated || (polar > 0.0 && a(0, 0) >= kTurnObservable * polar);
+      if (!*observable) {
         // a round outline shows no turn: it translates
         turnLocked = true;
-        theta = 0.0;
+        *theta = 0.0;
       }
     }
     Eigen::Vector3d x = Eigen::Vector3d::Zero();
@@ -699,20 +692,60 @@ ContourMotion EstimateMotion(const Contour& prev, const Contour& cur) {
       x = (a + 1e-9 * Eigen::Matrix3d::Identity()).ldlt().solve(b);
     }
     if (!x.allFinite()) break;
-    theta += x(0);
-    shift += Vec2(x(1), x(2));
+    *theta += x(0);
+    *shift += Vec2(x(1), x(2));
     if (std::abs(x(0)) < kAlignConverged && x.tail<2>().norm() < kAlignConverged) break;
   }
 
   // the final residual, at the final motion
-  r.motion.angle = theta;
-  r.motion.pos = cPrev + shift - Rotate(cPrev, theta);
-  const Contour moved = Transformed(prev, r.motion);
+  const Pose2 motion{cPrev + *shift - Rotate(cPrev, *theta), *theta};
+  const Contour moved = Transformed(prev, motion);
   const std::vector<Foot> feet = Feet(cur, moved, recheck2);
   double sum = 0.0;
   for (int k = 0; k < n; ++k) sum += (moved.col(k) - feet[k].point).squaredNorm();
-  r.residual = std::sqrt(sum / n);
+  return std::sqrt(sum / n);
+}
+
+}  // namespace
+
+ContourMotion EstimateMotion(const Contour& prev, const Contour& cur) {
+  ContourMotion r;
+  const int n = static_cast<int>(prev.cols());
+  const int m = static_cast<int>(cur.cols());
+  if (n == 0 || m == 0 || !prev.allFinite() || !cur.allFinite()) return r;
+  const Vec2 cPrev = MeanOf(prev);
+  const Vec2 cCur = MeanOf(cur);
+  if (m < 3 || n < 3) {
+    r.motion.pos = cCur - cPrev;
+    return r;
+  }
+
+  // seed: the centroid shift, and the principal axis turn of an elongated outline (modulo half a
+  // turn, the smaller way round)
+  double aPrev = 0.0, rPrev = 1.0, aCur = 0.0, rCur = 1.0;
+  PrincipalAxis(prev, cPrev, &aPrev, &rPrev);
+  PrincipalAxis(cur, cCur, &aCur, &rCur);
+  double theta = 0.0;
+  const bool elongated = rPrev > kTurnElongation && rCur > kTurnElongation;
+  if (elongated) theta = std::remainder(aCur - aPrev, kPi);
+  Vec2 shift = cCur - cPrev;  // q = R(theta) (p - cPrev) + cPrev + shift
+  r.residual =
+      Align(prev, cur, cPrev, TurnRule::kDecide, elongated, &theta, &shift, &r.turnObservable);
+  r.motion.angle = theta;
+  r.motion.pos = cPrev + shift - Rotate(cPrev, theta);
   return r;
+}
+
+Pose2 EstimatePieceMotion(const Contour& piece, const Contour& cur, const Pose2& seed) {
+  const int n = static_cast<int>(piece.cols());
+  if (n < 3 || cur.cols() < 3 || !piece.allFinite() || !cur.allFinite()) return seed;
+  // the seed as a turn about the piece's mean and a shift of that mean
+  const Vec2 cPrev = MeanOf(piece);
+  double theta = seed.angle;
+  Vec2 shift = seed.Apply(cPrev) - cPrev;
+  bool observable = false;
+  Align(piece, cur, cPrev, TurnRule::kHeld, false, &theta, &shift, &observable);
+  return Pose2{cPrev + shift - Rotate(cPrev, theta), theta};
 }
 
 Contour ResampleInPhase(const Contour& cur, const Contour& reference, int count) {

@@ -303,5 +303,51 @@ TEST(Matching, PredictionFollowsRigidMotion) {
   }
 }
 
+TEST(EstimatePieceMotion, AFingerOfAMergedOutlineIsFittedWithItsOwnMotion) {
+  // Three fingertips of radius 0.95 cm in one outline: two held still 0.6 cm apart, a third
+  // between them below that moves up 0.1 cm in a frame. The whole outline's motion is mostly the
+  // two that hold still; the third's own points, fitted from it, move with the third: their
+  // shift is found within kFit (the fit stops at 1e-5 cm; the sampled outline's chords sag 0.012
+  // cm and its corners, where the fingers meet, are cut by up to 0.075 cm, which the fit weighs
+  // down as any change of shape), and the two held still are fitted as still.
+  constexpr double kRadius = 0.95, kFit = 0.02;  // cm
+  using testing::DiscsOutline;
+  const Vec2 left(18.75, 20.0), right(21.25, 20.0), below(20.0, 18.6), step(0.0, 0.1);
+  const std::vector<double> radii = {kRadius, kRadius, kRadius};
+  const Contour prev = Sensed(DiscsOutline({left, right, below}, radii));
+  const Contour cur = Sensed(DiscsOutline({left, right, below + step}, radii));
+  const ContourMotion whole = EstimateMotion(prev, cur);
+  // each finger's points of the previous outline: those on its own circle
+  auto piece = [&](const Vec2& centre) {
+    std::vector<Vec2> pts;
+    for (Eigen::Index k = 0; k < prev.cols(); ++k) {
+      if (std::abs((Vec2(prev.col(k)) - centre).norm() - kRadius) < 0.02)
+        pts.push_back(prev.col(k));
+    }
+    Contour c(2, static_cast<Eigen::Index>(pts.size()));
+    for (size_t i = 0; i < pts.size(); ++i) c.col(static_cast<Eigen::Index>(i)) = pts[i];
+    return c;
+  };
+  const Contour mover = piece(below);
+  ASSERT_GE(mover.cols(), 3);
+  const Pose2 moved = EstimatePieceMotion(mover, cur, whole.motion);
+  const Vec2 at = mover.rowwise().mean();
+  EXPECT_LT((moved.Apply(at) - (at + step)).norm(), kFit);
+  // the whole outline's motion is not the mover's: the test would not tell them apart otherwise
+  EXPECT_GT((whole.motion.Apply(at) - (at + step)).norm(), 2.0 * kFit);
+  for (const Vec2& still : {left, right}) {
+    const Contour c = piece(still);
+    ASSERT_GE(c.cols(), 3);
+    const Pose2 m = EstimatePieceMotion(c, cur, whole.motion);
+    const Vec2 mean = c.rowwise().mean();
+    EXPECT_LT((m.Apply(mean) - mean).norm(), kFit);
+  }
+  // fewer than three points: the seed
+  const Contour two = mover.leftCols(2);
+  const Pose2 seed = EstimatePieceMotion(two, cur, whole.motion);
+  EXPECT_EQ(seed.pos, whole.motion.pos);
+  EXPECT_EQ(seed.angle, whole.motion.angle);
+}
+
 }  // namespace
 }  // namespace pg

@@ -83,6 +83,59 @@ inline Contour TwoDiscsOutline(double distance, double radius) {
   return ToContour(pts);
 }
 
+/// The outer outline of a union of discs (centres and radii) that form one connected region with
+/// no holes: each circle sampled at 1024 points, walked counter-clockwise and, where the walk
+/// enters another disc, continued on that disc's circle from its sample nearest the crossing.
+inline Contour DiscsOutline(const std::vector<Vec2>& centres, const std::vector<double>& radii) {
+  constexpr int kSamples = 1024;
+  const int discs = static_cast<int>(centres.size());
+  auto at = [&](int d, int i) {
+    const double a = 2 * kPi * i / kSamples;
+    return Vec2(centres[d] + radii[d] * Vec2(std::cos(a), std::sin(a)));
+  };
+  auto covered = [&](const Vec2& p, int except) {
+    for (int d = 0; d < discs; ++d) {
+      if (d != except && (p - centres[d]).norm() < radii[d]) return true;
+    }
+    return false;
+  };
+  // start at the lowest point of all the circles, which no other disc covers
+  int disc = 0, index = 3 * kSamples / 4;
+  for (int d = 1; d < discs; ++d) {
+    if (centres[d].y() - radii[d] < centres[disc].y() - radii[disc]) disc = d;
+  }
+  const int startDisc = disc, startIndex = index;
+  std::vector<Vec2> pts;
+  for (int guard = 0; guard < discs * kSamples; ++guard) {
+    pts.push_back(at(disc, index));
+    const int next = (index + 1) % kSamples;
+    const Vec2 p = at(disc, next);
+    if (covered(p, disc)) {
+      // the nearest uncovered sample of the disc entered, ahead of the crossing
+      int entered = -1;
+      for (int d = 0; d < discs; ++d) {
+        if (d != disc && (p - centres[d]).norm() < radii[d]) entered = d;
+      }
+      int best = 0;
+      double nearest = 1e300;
+      for (int i = 0; i < kSamples; ++i) {
+        const Vec2 q = at(entered, i);
+        const double dist = (q - p).norm();
+        if (dist < nearest && !covered(q, entered)) {
+          nearest = dist;
+          best = i;
+        }
+      }
+      disc = entered;
+      index = best;
+    } else {
+      index = next;
+    }
+    if (disc == startDisc && index == startIndex) break;
+  }
+  return ToContour(pts);
+}
+
 /// One finger of a hand outline, walked counter-clockwise: out along its right side, round the
 /// tip, back along its left side. base is the centre of its root, angle its direction.
 inline void AppendFinger(std::vector<Vec2>& pts, const Vec2& base, double angle, double length,

@@ -88,6 +88,14 @@ struct ContourMotion {
 /// iteration. Both contours must be wound the same way (sensing makes them counter-clockwise).
 ContourMotion EstimateMotion(const Contour& prev, const Contour& cur);
 
+/// The motion of a piece of an outline, the points of one finger of a merged contact (each of
+/// its fingers moves its own way, and the merged outline's one motion is none of theirs):
+/// `seed` (the whole outline's motion) with its shift refined by the point-to-line alignment of
+/// EstimateMotion, of the piece against the whole current contour; the turn stays the seed's.
+/// Points that went inside the outline (where the finger now touches another) are weighted down
+/// as any local change of shape is. The seed when the piece has fewer than 3 points.
+Pose2 EstimatePieceMotion(const Contour& piece, const Contour& cur, const Pose2& seed);
+
 /// prev moved by motion (every point through motion.Apply).
 Contour Transformed(const Contour& prev, const Pose2& motion);
 
