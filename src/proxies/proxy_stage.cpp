@@ -28,6 +28,19 @@ int NearestKept(const std::vector<int>& pred, int j) {
   return -1;
 }
 
+// the same among the points of one finger (labels[i] == labels[j]); any kept point when that
+// finger has none
+int NearestKeptOf(const std::vector<int>& pred, const std::vector<ContactId>& labels, int j) {
+  const int m = static_cast<int>(pred.size());
+  for (int d = 1; d <= m / 2; ++d) {
+    const int before = WrapIndex(j - d, m);
+    if (pred[before] >= 0 && labels[before] == labels[j]) return before;
+    const int after = WrapIndex(j + d, m);
+    if (pred[after] >= 0 && labels[after] == labels[j]) return after;
+  }
+  return NearestKept(pred, j);
+}
+
 // whether a contact's particles take their heights from its measurements
 bool Measures(const ProxyParams& params, const Blob& blob) {
   const bool any = !blob.heights.empty() && blob.heights.size() == size_t(blob.contour.cols());
@@ -169,6 +182,36 @@ int IndexCreep(const Contour& cur, const Contour& targets, const std::vector<boo
   auto mid = offsets.begin() + static_cast<std::ptrdiff_t>(offsets.size() / 2);
   std::nth_element(offsets.begin(), mid, offsets.end());
   return *mid;
+}
+
+// The motion of each previous point of a contact whose points belong to several fingers (a
+// merge): each finger's points move by that finger's own motion, fitted from `seed` (the whole
+// outline's). Empty when every point is one finger's, which then moves with the outline.
+std::vector<Pose2> FingerMotions(const Contour& prev, const Contour& cur,
+                                 const std::vector<ContactId>& fingers, const Pose2& seed) {
+  const int n = static_cast<int>(prev.cols());
+  if (static_cast<int>(fingers.size()) != n ||
+      std::all_of(fingers.begin(), fingers.end(),
+                  [&](ContactId f) { return f == fingers.front(); })) {
+    return {};
+  }
+  std::vector<Pose2> motions(static_cast<size_t>(n), seed);
+  std::vector<ContactId> done;
+  std::vector<int> members;
+  for (int k = 0; k < n; ++k) {
+    const ContactId f = fingers[k];
+    if (std::find(done.begin(), done.end(), f) != done.end()) continue;
+    done.push_back(f);
+    members.clear();
+    for (int i = k; i < n; ++i) {
+      if (fingers[i] == f) members.push_back(i);
+    }
+    Contour piece(2, static_cast<Eigen::Index>(members.size()));
+    for (size_t i = 0; i < members.size(); ++i) piece.col(i) = prev.col(members[i]);
+    const Pose2 motion = EstimatePieceMotion(piece, cur, seed);
+    for (const int i : members) motions[i] = motion;
+  }
+  return motions;
 }
 
 void Count(ParticlePlan& plan) {
@@ -597,6 +640,9 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
     const auto f = m_feedback.find(from[i].ids[k]);
     return f != m_feedback.end() ? f->second.pos : lastTarget(i, k);
   };
+  auto fingerOf = [&](int i, int k) {
+    return from[i].fingers.size() == from[i].ids.size() ? from[i].fingers[k] : sources[i];
+  };
   std::vector<std::vector<bool>> kept(from.size());
   for (size_t i = 0; i < from.size(); ++i) kept[i].assign(from[i].ids.size(), false);
   for (size_t t = 0; t < targets.size(); ++t) {
@@ -616,6 +662,7 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
     track.motion = from[std::max_element(votes.begin(), votes.end()) - votes.begin()].motion;
     track.ids.resize(m);
     track.baseHeights.resize(m);
+    track.fingers.resize(m);
     // a target no source point chose starts over: seeded as a new contact is
     if (m > 0 && std::none_of(has.begin(), has.end(), [](int h) { return h >= 0; })) {
       Seed(params, contact, scene, plan);
@@ -636,6 +683,7 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
           p.target = SubsampleTarget(cur, j, lastTarget(q.source, q.point), from[q.source].motion);
         }
         kept[q.source][q.point] = true;
+        track.fingers[j] = fingerOf(q.source, q.point);
       } else {
         // created where the nearest handed-over neighbour on this outline sits, at its height:
         // beside a gripped face, never on the object's top
@@ -644,6 +692,7 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
         p.action = ParticleAction::kCreated;
         p.start = positionOf(nb.source, nb.point);
         p.baseHeight = heightOf(nb.source, nb.point);
+        track.fingers[j] = fingerOf(nb.source, nb.point);
         if (params.placement == Placement::kGround && p.baseHeight <= 0.0) {
           p.start = scene.NearestOutside(p.start);
           p.baseHeight = 0.0;
@@ -742,6 +791,7 @@ void ProxyStage::Seed(const ProxyParams& params, const Contact& contact, const S
     track.baseHeights[j] = p.baseHeight;
     plan.particles.push_back(p);
   }
+  track.fingers.assign(static_cast<size_t>(m), contact.id);
   m_tracks[contact.id] = std::move(track);
 }
 
@@ -764,6 +814,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   Contour cur = contact.blob.contour;
   Contour prevMatched;
   ContourMotion contourMotion;
+  std::vector<Pose2> pointMotion;  // per previous point, when it holds several fingers
   if (compensate && cur.cols() > 0) {
     contourMotion = EstimateMotion(prev, cur);
     // a round contact shows no turn of its own: in a grip it turns with the grip, about its
@@ -776,6 +827,13 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
       contourMotion.motion.pos = movedCentre - Rotate(centre, grip->second);
     }
     prevMatched = Transformed(prev, contourMotion.motion);
+    // a merged contact's fingers each move their own way: a finger that pushes on while the
+    // others hold still keeps its particles, and those of the others that went inside the
+    // outline (where the fingers now touch) are the ones that go
+    pointMotion = FingerMotions(prev, cur, track.fingers, contourMotion.motion);
+    for (size_t k = 0; k < pointMotion.size(); ++k) {
+      prevMatched.col(static_cast<Eigen::Index>(k)) = pointMotion[k].Apply(prev.col(k));
+    }
     const int sensed = static_cast<int>(cur.cols());
     const int count = std::abs(sensed - n) <= params.countHysteresis ? n : sensed;
     cur = ResampleInPhase(cur, prevMatched, count);
@@ -786,7 +844,57 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   const MatchResult match = m > 0 ? MatchSuccessors(params, compensate ? prevMatched : prev, cur,
                                                     &m_stats.windowedFallbacks)
                                   : MatchResult{std::vector<int>(n, -1), {}, 0};
-  const std::vector<int> pred = m > 0 ? Predecessors(match, m) : std::vector<int>{};
+  std::vector<int> pred = m > 0 ? Predecessors(match, m) : std::vector<int>{};
+
+  auto fingerOf = [&](int k) {
+    return track.fingers.size() == static_cast<size_t>(n) ? track.fingers[k] : contact.id;
+  };
+  // A merged contact's current points belong to the finger whose moved points lie nearest. A
+  // particle follows its own finger's skin: matched to another finger's point (where the fingers
+  // meet, one finger's outline goes inside as the other's moves on), it moves to a free point of
+  // its own finger next to its match, or is deleted; a point left without a particle takes one
+  // created beside its own finger's nearest (docs/proxies.md, "After the merge").
+  std::vector<ContactId> labels;
+  if (!pointMotion.empty() && m > 0) {
+    labels.resize(m);
+    for (int j = 0; j < m; ++j) {
+      int nearest = 0;
+      double best = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < n; ++k) {
+        const double d = (prevMatched.col(k) - cur.col(j)).squaredNorm();
+        if (d < best) {
+          best = d;
+          nearest = k;
+        }
+      }
+      labels[j] = fingerOf(nearest);
+    }
+    std::vector<int> own = pred;
+    std::vector<bool> placed(n, false);
+    for (int j = 0; j < m; ++j) {
+      if (own[j] >= 0 && fingerOf(own[j]) != labels[j]) own[j] = -1;
+      if (own[j] >= 0) placed[own[j]] = true;
+    }
+    // a previous point left without a point of its own finger (matched to another finger's, or
+    // its match taken by a better one) moves to the nearest free point of its finger next to
+    // its match: the outlines are sampled at independent phases where they meet, as in a
+    // hand-over
+    for (int k = 0; k < n; ++k) {
+      const int j = match.successor[k];
+      if (placed[k] || j < 0) continue;
+      for (int d = 0; d <= kSubsampleReach; ++d) {
+        const int before = WrapIndex(j - d, m), after = WrapIndex(j + d, m);
+        const int free = own[before] < 0 && labels[before] == fingerOf(k) ? before
+                         : own[after] < 0 && labels[after] == fingerOf(k) ? after
+                                                                          : -1;
+        if (free >= 0) {
+          own[free] = k;
+          break;
+        }
+      }
+    }
+    if (std::any_of(own.begin(), own.end(), [](int k) { return k >= 0; })) pred = std::move(own);
+  }
 
   // the particle's known base height and position: feedback first, its own record otherwise
   auto heightOf = [&](int k) {
@@ -808,6 +916,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
 
   std::vector<ParticleId> ids(m, kNoId);
   std::vector<double> heights(m, 0.0);
+  std::vector<ContactId> fingers(m, contact.id);
   std::vector<bool> reused(m, false);
   Contour targets(2, m);
   const size_t first = plan.particles.size();
@@ -825,14 +934,16 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
         p.target = SubsampleTarget(cur, j, lastTarget(pred[j]), motion);
       }
       p.baseHeight = heightOf(pred[j]);
+      fingers[j] = fingerOf(pred[j]);
     } else {
       // create: where the nearest kept neighbour's particle sits, at its height
-      const int nb = NearestKept(pred, j);
+      const int nb = labels.empty() ? NearestKept(pred, j) : NearestKeptOf(pred, labels, j);
       assert(nb >= 0 && "a continuing contact keeps at least one point");
       p.id = m_ids.Next();
       p.action = ParticleAction::kCreated;
       p.start = positionOf(pred[nb]);
       p.baseHeight = heightOf(pred[nb]);
+      fingers[j] = labels.empty() ? fingerOf(pred[nb]) : labels[j];
       // in ground mode a particle on the table never starts inside a footprint
       if (params.placement == Placement::kGround && p.baseHeight <= 0.0) {
         p.start = scene.NearestOutside(p.start);
@@ -850,24 +961,30 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   if (creep != 0) {
     std::vector<ParticleId> shiftedIds(m);
     std::vector<double> shiftedHeights(m);
+    std::vector<ContactId> shiftedFingers(m);
     Contour shiftedTargets(2, m);
     for (int j = 0; j < m; ++j) {
       const int to = WrapIndex(j + creep, m);
       shiftedIds[to] = ids[j];
       shiftedHeights[to] = heights[j];
+      shiftedFingers[to] = fingers[j];
       shiftedTargets.col(to) = targets.col(j);
       plan.particles[first + j].index = to;
     }
     ids = std::move(shiftedIds);
     heights = std::move(shiftedHeights);
+    fingers = std::move(shiftedFingers);
     targets = std::move(shiftedTargets);
     ++m_stats.indexShifts;
   }
 
-  // delete: previous points whose successor did not take them as predecessor
+  // delete: previous points that no current point took as predecessor
+  std::vector<bool> kept(n, false);
+  for (const int k : pred) {
+    if (k >= 0) kept[k] = true;
+  }
   for (int k = 0; k < n; ++k) {
-    const int j = match.successor[k];
-    if (j >= 0 && pred[j] == k) continue;
+    if (kept[k]) continue;
     PlannedParticle p;
     p.id = track.ids[k];
     p.contact = contact.id;
@@ -881,6 +998,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   track.contour = cur;
   track.ids = std::move(ids);
   track.baseHeights = std::move(heights);
+  track.fingers = std::move(fingers);
   track.targets = std::move(targets);
   track.motion = compensate ? contourMotion.motion : motion;
 }

@@ -700,6 +700,108 @@ TEST(ProxyStageHandOver, ParticlesCreatedBesideAGrippedFaceStayOnTheTable) {
   }
 }
 
+// where the outline of a union of discs of one radius turns from one circle to another: the
+// crossings of two circles that no third disc covers
+std::vector<Vec2> Junctions(const std::vector<Vec2>& centres, double radius) {
+  std::vector<Vec2> out;
+  for (size_t i = 0; i < centres.size(); ++i) {
+    for (size_t j = i + 1; j < centres.size(); ++j) {
+      const Vec2 d = centres[j] - centres[i];
+      const double l = d.norm();
+      if (l >= 2.0 * radius || l <= 0.0) continue;
+      const Vec2 mid = centres[i] + 0.5 * d;
+      const Vec2 across = Vec2(-d.y(), d.x()) / l * std::sqrt(radius * radius - 0.25 * l * l);
+      for (const Vec2& x : {Vec2(mid + across), Vec2(mid - across)}) {
+        bool covered = false;
+        for (size_t k = 0; k < centres.size(); ++k) {
+          if (k != i && k != j && (x - centres[k]).norm() < radius) covered = true;
+        }
+        if (!covered) out.push_back(x);
+      }
+    }
+  }
+  return out;
+}
+
+TEST(ProxyStageHandOver, AFingerThatPushesOnInAMergedContactKeepsItsParticles) {
+  // A pinch of two fingertips (radius 0.95 cm, 1.2 cm between their outlines) and a third
+  // fingertip that comes up between them at 0.1 cm a frame, merges with both and pushes on
+  // 0.8 cm: the pusher's outline goes on between the two, theirs goes inside it where they meet.
+  // Every particle follows its own fingertip's skin: away from where two outlines meet (by more
+  // than a sample spacing, where the outline's samples cut the corner and may belong to either),
+  // its target stays on its own circle (within kOnCircle, the chord sag of 0.3 cm samples on a
+  // 0.95 cm circle, 0.012 cm, and the sub-sample targets); and the pusher's arc between the two
+  // keeps particles that were the pusher's before the merge.
+  constexpr double kOnCircle = 0.05;  // cm
+  constexpr double kRadius = 0.95;
+  Harness h;
+  using testing::DiscsOutline;
+  const Vec2 left(18.45, 20.0), right(21.55, 20.0);
+  auto disc = [&](const Vec2& c) { return Sensed(Moved(CircleOutline(kRadius), {c})); };
+  auto pusherAt = [](int frame) { return Vec2(20.0, 17.6 + 0.1 * frame); };
+  std::map<ParticleId, Vec2> own;  // the centre of each particle's fingertip, before the merge
+  std::set<ParticleId> pushers;
+  int frame = 0;
+  for (; frame < 40; ++frame) {
+    // the outlines meet when the pusher's centre is 1.9 cm from each fingertip's
+    if ((pusherAt(frame) - left).norm() < 2.0 * kRadius) break;
+    const ContactState state = frame == 0 ? ContactState::kNew : ContactState::kContinuing;
+    const ParticlePlan plan = h.Step(
+        MakeSet(frame, {MakeContact(1, state, disc(left)), MakeContact(2, state, disc(right)),
+                        MakeContact(3, state, disc(pusherAt(frame)))}));
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action == ParticleAction::kDeleted) continue;
+      own[p.id] = p.contact == 1 ? left : p.contact == 2 ? right : pusherAt(frame);
+      if (p.contact == 3) pushers.insert(p.id);
+    }
+  }
+  ASSERT_LT(frame, 40);
+  const int merge = frame;
+  for (; frame <= merge + 8; ++frame) {
+    const Vec2 pusher = pusherAt(frame);
+    const Contour merged = Sensed(DiscsOutline({left, right, pusher}, {kRadius, kRadius, kRadius}));
+    Contact m = MakeContact(1, ContactState::kContinuing, merged);
+    std::vector<Contact> contacts;
+    if (frame == merge) {
+      m.parents = {1, 2, 3};
+      Contact a = MakeContact(2, ContactState::kLifted, disc(right));
+      a.mergedInto = 1;
+      Contact b = MakeContact(3, ContactState::kLifted, disc(pusher));
+      b.mergedInto = 1;
+      contacts = {m, a, b};
+    } else {
+      contacts = {m};
+    }
+    const ParticlePlan plan = h.Step(MakeSet(frame, contacts));
+    const std::vector<Vec2> junctions = Junctions({left, right, pusher}, kRadius);
+    ASSERT_EQ(junctions.size(), 4u);
+    auto nearJunction = [&](const Vec2& x) {
+      for (const Vec2& j : junctions) {
+        if ((x - j).norm() <= testing::kSpacing) return true;
+      }
+      return false;
+    };
+    int pusherArc = 0, heldByPusher = 0;
+    for (const PlannedParticle& p : plan.particles) {
+      if (p.action == ParticleAction::kDeleted || nearJunction(p.target)) continue;
+      if (p.action == ParticleAction::kReused && own.count(p.id) > 0) {
+        const Vec2 centre = pushers.count(p.id) > 0 ? pusher : own.at(p.id);
+        EXPECT_NEAR((p.target - centre).norm(), kRadius, kOnCircle)
+            << "frame " << frame << ": particle " << p.id << " of the fingertip at "
+            << centre.transpose() << " has its target at " << p.target.transpose();
+      }
+      // the pusher's arc between the two
+      if (std::abs((p.target - pusher).norm() - kRadius) < kOnCircle && p.target.y() > pusher.y()) {
+        ++pusherArc;
+        heldByPusher += pushers.count(p.id) > 0 ? 1 : 0;
+      }
+    }
+    EXPECT_GT(pusherArc, 0) << "frame " << frame;
+    EXPECT_EQ(heldByPusher, pusherArc) << "frame " << frame;
+    if (::testing::Test::HasFailure()) break;
+  }
+}
+
 TEST(ProxyStage, NewContactOverAnObjectRestsOnItsTop) {
   Harness h;
   h.scene.boxes = {{Vec2(20, 20), Vec2(30, 30), 5.0}};

@@ -78,6 +78,9 @@ class ProxyStage {
     std::vector<double> baseHeights;  // last known base height of each point's particle, cm
     Contour targets;                  // last target of each point's particle (subsample), cm
     Pose2 motion;                     // the contact's last rigid motion, from the contour before
+    // the contact each point's particle was first created for: its finger. A merged contact
+    // holds several, each moving its own way (empty: every point is the contact's own)
+    std::vector<ContactId> fingers;
   };
 
   void Persistent(const ProxyParams& params, const ContactSet& contacts, const SceneQuery& scene,
