@@ -16,29 +16,22 @@ namespace pg {
 namespace {
 
 // the contour point nearest j (by index distance, the preceding one first on equal distance)
-// whose predecessor is known; -1 when there is none
-int NearestKept(const std::vector<int>& pred, int j) {
+// whose predecessor is known; -1 when there is none. With `labels` (the finger of each point),
+// the nearest among the points of j's own finger first, any kept point when that finger has none
+int NearestKept(const std::vector<int>& pred, int j, const std::vector<ContactId>& labels = {}) {
   const int m = static_cast<int>(pred.size());
-  for (int d = 1; d <= m / 2; ++d) {
-    const int before = WrapIndex(j - d, m);
-    if (pred[before] >= 0) return before;
-    const int after = WrapIndex(j + d, m);
-    if (pred[after] >= 0) return after;
-  }
-  return -1;
-}
-
-// the same among the points of one finger (labels[i] == labels[j]); any kept point when that
-// finger has none
-int NearestKeptOf(const std::vector<int>& pred, const std::vector<ContactId>& labels, int j) {
-  const int m = static_cast<int>(pred.size());
-  for (int d = 1; d <= m / 2; ++d) {
-    const int before = WrapIndex(j - d, m);
-    if (pred[before] >= 0 && labels[before] == labels[j]) return before;
-    const int after = WrapIndex(j + d, m);
-    if (pred[after] >= 0 && labels[after] == labels[j]) return after;
-  }
-  return NearestKept(pred, j);
+  auto search = [&](bool sameFinger) {
+    auto fits = [&](int i) { return pred[i] >= 0 && (!sameFinger || labels[i] == labels[j]); };
+    for (int d = 1; d <= m / 2; ++d) {
+      const int before = WrapIndex(j - d, m);
+      if (fits(before)) return before;
+      const int after = WrapIndex(j + d, m);
+      if (fits(after)) return after;
+    }
+    return -1;
+  };
+  const int own = labels.empty() ? -1 : search(true);
+  return own >= 0 ? own : search(false);
 }
 
 // whether a contact's particles take their heights from its measurements
@@ -937,7 +930,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
       fingers[j] = fingerOf(pred[j]);
     } else {
       // create: where the nearest kept neighbour's particle sits, at its height
-      const int nb = labels.empty() ? NearestKept(pred, j) : NearestKeptOf(pred, labels, j);
+      const int nb = NearestKept(pred, j, labels);
       assert(nb >= 0 && "a continuing contact keeps at least one point");
       p.id = m_ids.Next();
       p.action = ParticleAction::kCreated;
