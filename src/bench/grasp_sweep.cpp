@@ -1461,16 +1461,41 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
     }
   } else {
     // The pusher is a finger held at its depth, not a force: an object it pushes away presses
-    // it less. It follows (stays within kFollowDistance) when the grip's friction and the table's
-    // static friction resist the push that is left once the object has moved that far. A pusher
-    // whose outline merged with the grip's presses with what is left of its contour, and takes
-    // from the grip's contours what lies inside it.
-    const Vec2 backed = s.pusher.pos - shift - kFollowDistance * s.pusher.inward;
-    p.requirement =
-        FingertipForce(o, physics, spacing, backed, s.pusher.radius, s.pusher.inward, hidden.back())
-            .norm();
-    p.capacity = muP * p.normalForce + o.tableStatic * weight;
-    p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
+    // it less. A pusher whose outline merged with the grip's presses with what is left of its
+    // contour, and takes from the grip's contours what lies inside it.
+    // Fifteenth revision: with the object moved d along the push u, every fingertip's normal
+    // force drives it, D(d) = sum_i F_i(d).u, and the grip's friction and the table's static
+    // friction resist, C(d) = mu_p sum_grip |F_i(d)| + mu_s W. Before, D was the pusher's force
+    // alone: right for a box, whose gripped faces lie along the push, but a round slice's
+    // fingertips press along lines through its centre, which tilt as it moves: with whole
+    // contours towards the push (the slice squirts out), and, where a merged pusher's disc hides
+    // the backs of their contours, against it (their fronts wedge the slice back). The pusher
+    // comes in slowly and D grows with its depth at every d, so the object moves on from each
+    // place it stopped and ends at the first d where D(d) <= C(d): it follows (stays within
+    // kFollowDistance) when some d up to that distance has D(d) <= C(d). The margin is the best
+    // C / D over d.
+    const Vec2 u = s.pusher.inward;
+    p.margin = 0.0;
+    constexpr int kPushLags = 16;
+    for (int j = 0; j <= kPushLags; ++j) {
+      const Vec2 moved = shift + u * (kFollowDistance * j / kPushLags);
+      Vec2 drive = FingertipForce(o, physics, spacing, s.pusher.pos - moved, s.pusher.radius,
+                                  s.pusher.inward, hidden.back());
+      double gripNormal = 0.0;
+      for (size_t i = 0; i < fingers; ++i) {
+        const Vec2 f = force(i, moved);
+        drive += f;
+        gripNormal += f.norm();
+      }
+      const double requirement = std::max(drive.dot(u), 0.0);
+      const double capacity = muP * gripNormal + o.tableStatic * weight;
+      const double margin = requirement > 0 ? capacity / requirement : kInfinity;
+      if (j == 0 || margin > p.margin) {
+        p.margin = margin;
+        p.requirement = requirement;
+        p.capacity = capacity;
+      }
+    }
   }
   p.canHold = p.margin >= 1.0;
   p.nearBoundary = p.margin >= 1.0 - kBoundaryBand && p.margin <= 1.0 + kBoundaryBand;

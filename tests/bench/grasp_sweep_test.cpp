@@ -696,6 +696,57 @@ std::vector<HiddenDisc> HiddenBy(const std::vector<GraspFinger>& fingers, size_t
   return hidden;
 }
 
+TEST(GraspRule, APinchedRoundSliceThatMovesIsSqueezedOnOrWedgedBackByItsFingertips) {
+  // Fifteenth revision. A cylinder (R 1.2, 100 g) pinched across x by two fingertips (R 0.8,
+  // contours 0.5 cm inside), and a third fingertip (R 0.8) pushing it along -y. Once the slice has
+  // moved d along the push, each pinching fingertip lies d behind the slice's centre and its bodies
+  // press along normals through that centre: a component along the push, the same for both by
+  // symmetry. With whole contours it is positive and grows with d (the slice squirts out), so
+  // the push the grip must resist is more than the pusher's own at every d. Where the pusher's
+  // disc hides the backs of the pinching contours (the outlines merged), their fronts press the
+  // slice back at rest.
+  const PhysicsParams physics;
+  const double spacing = 0.3, radius = 0.8;
+  GraspScene s = OpposedBoxScene(0.5, radius);
+  s.object = Cylinder(1.2, 100.0);
+  for (GraspFinger& f : s.fingers) f.pos.x() = std::copysign(1.2 + radius - 0.5, f.pos.x());
+  s.object.tableStatic = 0.5;
+  s.object.tableKinetic = 0.4;
+  s.object.particleFriction = 0.8;
+  s.object.pose.pos = Vec2(30.5, 23.0);
+  s.motion = GraspMotion::kPush;
+  s.pusher.radius = radius;
+  s.pusher.inward = Vec2(0.0, -1.0);
+  const Vec2 u = s.pusher.inward;
+  // the pinching fingertip on +x, its contour `moved` behind the slice, and its push along u
+  auto squeeze = [&](double moved, std::span<const HiddenDisc> hidden) {
+    const GraspFinger& f = s.fingers[1];
+    return FingertipForce(s.object, physics, spacing, f.pos - u * moved, f.radius, f.inward, hidden)
+        .dot(u);
+  };
+  // apart: the pusher's contour 0.8 cm inside the +y side, its centre 1.2 cm from the slice's
+  s.pushDepth = 0.8;
+  s.pusher.pos = Vec2(0.0, 1.2 + radius - s.pushDepth);
+  EXPECT_NEAR(squeeze(0.0, {}), 0.0, 1e-6 * s.fingers.size());
+  EXPECT_GT(squeeze(0.5, {}), 0.0);
+  EXPECT_GT(squeeze(1.0, {}), squeeze(0.5, {}));
+  const GraspPrediction apart = PredictGrasp(s, physics, spacing);
+  const double pusherAt =
+      FingertipForce(s.object, physics, spacing, s.pusher.pos - u * 1.0, radius, u).dot(u);
+  // the requirement is taken where the margin is best, and is at least the pusher's own there;
+  // the pusher's own is least at the follow distance, so the margin is below C / that
+  EXPECT_LT(apart.margin, apart.capacity / pusherAt);
+  // merged: the pusher 1.7 cm in, its centre 0.3 cm from the slice's and 1.53 cm from each
+  // pinching fingertip's (under 2 R): its disc lies over the backs of both pinching contours
+  s.pushDepth = 1.7;
+  s.pusher.pos = Vec2(0.0, 1.2 + radius - s.pushDepth);
+  std::vector<GraspFinger> all = s.fingers;
+  all.push_back(s.pusher);
+  const std::vector<HiddenDisc> hidden = HiddenBy(all, 1);
+  ASSERT_FALSE(hidden.empty());
+  EXPECT_LT(squeeze(0.0, hidden), 0.0);
+}
+
 TEST(GraspRule, TwoTouchingFingertipsPressAsTheOutlineOfTheirUnion) {
   // Two fingertips of radius R = 0.8 on a box's +x face, side by side along y at a pitch p =
   // 1.2 cm (their discs overlap by 0.4 cm: one blob), contours 0.8 cm inside the face. The
