@@ -127,7 +127,11 @@ constexpr int kSubsampleReach = 3;
 // The reused particle's target: its last target moved by the contact's rigid motion, then put
 // back on the current contour at the nearest point of the segments within kSubsampleReach samples
 // of its match j (so it stays near its match and on the contour).
-Vec2 SubsampleTarget(const Contour& cur, int j, const Vec2& lastTarget, const Pose2& motion) {
+// With `labels` (the finger of each point of a merged outline), only along the outline of the
+// particle's own finger: a target near where two fingers' outlines meet does not slide onto the
+// other's.
+Vec2 SubsampleTarget(const Contour& cur, int j, const Vec2& lastTarget, const Pose2& motion,
+                     const std::vector<ContactId>& labels = {}, ContactId finger = kNoId) {
   const int m = static_cast<int>(cur.cols());
   const Vec2 predicted = motion.Apply(lastTarget);
   if (m < 3) return cur.col(j);
@@ -135,8 +139,10 @@ Vec2 SubsampleTarget(const Contour& cur, int j, const Vec2& lastTarget, const Po
   double bestDistance = (predicted - best).squaredNorm();
   const int reach = std::min(kSubsampleReach, (m - 1) / 2);
   for (int i = -reach; i < reach; ++i) {
-    const Vec2 a = cur.col(WrapIndex(j + i, m));
-    const Vec2 b = cur.col(WrapIndex(j + i + 1, m));
+    const int ia = WrapIndex(j + i, m), ib = WrapIndex(j + i + 1, m);
+    if (!labels.empty() && (labels[ia] != finger || labels[ib] != finger)) continue;
+    const Vec2 a = cur.col(ia);
+    const Vec2 b = cur.col(ib);
     if ((b - a).squaredNorm() <= 0.0) continue;
     const Vec2 q = ClosestPointOnSegment(predicted, a, b);
     const double d = (predicted - q).squaredNorm();
@@ -205,6 +211,30 @@ std::vector<Pose2> FingerMotions(const Contour& prev, const Contour& cur,
     for (const int i : members) motions[i] = motion;
   }
   return motions;
+}
+
+// a merged contact keeps the whole outlines of the fingers it still holds points of; with one
+// finger left it is that finger's contact again
+template <class Track>
+void KeepHeldGhosts(Track& track) {
+  std::erase_if(track.ghosts, [&](const auto& g) {
+    return std::find(track.fingers.begin(), track.fingers.end(), g.finger) == track.fingers.end();
+  });
+  if (track.ghosts.size() < 2) track.ghosts.clear();
+}
+
+// the squared distance from q to a closed outline
+double OutlineDistance2(const Contour& outline, const Vec2& q) {
+  const int n = static_cast<int>(outline.cols());
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k) {
+    const Vec2 a = outline.col(k);
+    const Vec2 ab = Vec2(outline.col(WrapIndex(k + 1, n))) - a;
+    const double len = ab.squaredNorm();
+    const double t = len > 0.0 ? std::clamp((q - a).dot(ab) / len, 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * ab - q).squaredNorm());
+  }
+  return best;
 }
 
 void Count(ParticlePlan& plan) {
@@ -550,6 +580,57 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
     double score = std::numeric_limits<double>::infinity();
   };
   std::vector<std::vector<Choice>> choice(from.size());
+  auto fingerOf = [&](int i, int k) {
+    return from[i].fingers.size() == from[i].ids.size() ? from[i].fingers[k] : sources[i];
+  };
+  // In a merge, a particle that lost its successor walks on only over points whose finger is its
+  // own: points that its finger's whole outline (Track::ghosts, or the source's outline) passes
+  // within half a spacing as near as any other's (where the fingers meet, either), or that no
+  // whole outline passes near (the neck the camera fills between them). Elsewhere the point is
+  // another finger's skin, and Continue would take it back the next frame. The successors the
+  // search chose are not filtered: at a merge right after a split (outlines that flicker as they
+  // touch) that deleted and created 10 particles of merge_grip at one camera seed, where the
+  // outline's change requires 3. open[f][j]: whether finger f's particles may walk onto point j of
+  // the one target.
+  std::map<ContactId, std::vector<bool>> open;
+  if (from.size() > 1 && targets.size() == 1 && targets[0]->blob.contour.cols() > 0) {
+    const Contour& cur = targets[0]->blob.contour;
+    const int m = static_cast<int>(cur.cols());
+    std::vector<std::pair<ContactId, Contour>> outlines;
+    for (size_t i = 0; i < from.size(); ++i) {
+      if (from[i].ghosts.empty()) {
+        outlines.emplace_back(sources[i], moved[i]);
+      } else {
+        for (const Track::Ghost& g : from[i].ghosts) {
+          outlines.emplace_back(g.finger, Transformed(g.outline, from[i].motion));
+        }
+      }
+    }
+    double length = 0.0;
+    for (int j = 0; j < m; ++j) length += (cur.col(WrapIndex(j + 1, m)) - cur.col(j)).norm();
+    const double spacing = length / m;
+    std::vector<double> distance(outlines.size());
+    for (const auto& [finger, outline] : outlines)
+      open[finger].assign(static_cast<size_t>(m), false);
+    for (int j = 0; j < m; ++j) {
+      double best = std::numeric_limits<double>::infinity();
+      for (size_t o = 0; o < outlines.size(); ++o) {
+        distance[o] = outlines[o].second.cols() > 0
+                          ? std::sqrt(OutlineDistance2(outlines[o].second, cur.col(j)))
+                          : std::numeric_limits<double>::infinity();
+        best = std::min(best, distance[o]);
+      }
+      for (size_t o = 0; o < outlines.size(); ++o) {
+        if (best > 0.25 * spacing || distance[o] <= best + 0.5 * spacing)
+          open[outlines[o].first][j] = true;
+      }
+    }
+  }
+  auto mayTake = [&](int i, int k, int j) {
+    if (open.empty()) return true;
+    const auto f = open.find(fingerOf(i, k));
+    return f == open.end() || f->second[j];
+  };
   for (size_t i = 0; i < from.size(); ++i) {
     choice[i].resize(static_cast<size_t>(from[i].contour.cols()));
     if (from[i].contour.cols() == 0) continue;
@@ -614,6 +695,7 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
     }
     for (int step = 1; step < m; ++step) {
       const int j = WrapIndex(c.index + direction * step, m);
+      if (!mayTake(i, k, j)) break;  // another finger's skin: not across it
       if (line[j].source < 0) {
         line[j] = {i, k, score};
         break;
@@ -633,9 +715,51 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
     const auto f = m_feedback.find(from[i].ids[k]);
     return f != m_feedback.end() ? f->second.pos : lastTarget(i, k);
   };
-  auto fingerOf = [&](int i, int k) {
-    return from[i].fingers.size() == from[i].ids.size() ? from[i].fingers[k] : sources[i];
+  // A particle that presses an object keeps pressing it through the merge (issue 42): where the
+  // merged outline is shorter than its parents' (the camera fills the neck where two fingers
+  // meet), a finger loses points, and the particle that gives way should be one that presses
+  // nothing. So a loser left without a point whose last target lies inside an object's footprint,
+  // below its top, takes the next point along its own finger's outline, and that finger's
+  // particles there move on by one point each, up to the first that presses nothing (or a free
+  // point); that one gives way instead.
+  auto presses = [&](int i, int k) {
+    double top = 0.0;
+    return scene.FootprintDepth(lastTarget(i, k), &top) > 0.0 && heightOf(i, k) < top;
   };
+  {
+    std::vector<std::vector<bool>> placed(from.size());
+    for (size_t i = 0; i < from.size(); ++i) placed[i].assign(from[i].ids.size(), false);
+    for (const std::vector<Pred>& line : pred) {
+      for (const Pred& q : line) {
+        if (q.source >= 0) placed[q.source][q.point] = true;
+      }
+    }
+    for (const auto& [score, i, k] : losers) {
+      if (placed[i][k] || !presses(i, k)) continue;
+      const Choice& c = choice[i][k];
+      std::vector<Pred>& line = pred[c.target];
+      const int m = static_cast<int>(line.size());
+      for (const int direction : {1, -1}) {
+        std::vector<int> chain;
+        bool room = false;
+        for (int step = 1; step < m && !room; ++step) {
+          const int j = WrapIndex(c.index + direction * step, m);
+          if (!mayTake(i, k, j)) break;
+          const Pred& q = line[j];
+          if (q.source >= 0 && fingerOf(q.source, q.point) != fingerOf(i, k)) break;
+          chain.push_back(j);
+          room = q.source < 0 || !presses(q.source, q.point);
+        }
+        if (!room) continue;
+        const Pred& last = line[chain.back()];
+        if (last.source >= 0) placed[last.source][last.point] = false;
+        for (size_t s = chain.size() - 1; s > 0; --s) line[chain[s]] = line[chain[s - 1]];
+        line[chain.front()] = {i, k, score};
+        placed[i][k] = true;
+        break;
+      }
+    }
+  }
   std::vector<std::vector<bool>> kept(from.size());
   for (size_t i = 0; i < from.size(); ++i) kept[i].assign(from[i].ids.size(), false);
   for (size_t t = 0; t < targets.size(); ++t) {
@@ -653,6 +777,38 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
       if (q.source >= 0) ++votes[q.source];
     }
     track.motion = from[std::max_element(votes.begin(), votes.end()) - votes.begin()].motion;
+    // each finger's whole outline, as its source last saw it apart, moved on one frame
+    for (size_t i = 0; i < from.size(); ++i) {
+      if (votes[i] == 0) continue;
+      if (from[i].ghosts.empty()) {
+        track.ghosts.push_back({sources[i], moved[i]});
+      } else {
+        for (const Track::Ghost& g : from[i].ghosts) {
+          track.ghosts.push_back({g.finger, Transformed(g.outline, from[i].motion)});
+        }
+      }
+    }
+    // each point's finger: its particle's, or for a point without one, after a merge, the
+    // finger's whose whole outline passes nearest
+    std::vector<ContactId> labels;
+    if (track.ghosts.size() >= 2) {
+      labels.resize(m);
+      for (int j = 0; j < m; ++j) {
+        const Pred& q = pred[t][j];
+        if (q.source >= 0) {
+          labels[j] = fingerOf(q.source, q.point);
+          continue;
+        }
+        double best = std::numeric_limits<double>::infinity();
+        for (const Track::Ghost& g : track.ghosts) {
+          const double d = OutlineDistance2(g.outline, cur.col(j));
+          if (d < best) {
+            best = d;
+            labels[j] = g.finger;
+          }
+        }
+      }
+    }
     track.ids.resize(m);
     track.baseHeights.resize(m);
     track.fingers.resize(m);
@@ -679,13 +835,15 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
         track.fingers[j] = fingerOf(q.source, q.point);
       } else {
         // created where the nearest handed-over neighbour on this outline sits, at its height:
-        // beside a gripped face, never on the object's top
-        const Pred& nb = pred[t][NearestKept(has, j)];
+        // beside a gripped face, never on the object's top. After a merge, the point is the
+        // finger's whose whole outline passes nearest, and its neighbour is one of that
+        // finger's where there is one
+        const Pred& nb = pred[t][NearestKept(has, j, labels)];
         p.id = m_ids.Next();
         p.action = ParticleAction::kCreated;
         p.start = positionOf(nb.source, nb.point);
         p.baseHeight = heightOf(nb.source, nb.point);
-        track.fingers[j] = fingerOf(nb.source, nb.point);
+        track.fingers[j] = labels.empty() ? fingerOf(nb.source, nb.point) : labels[j];
         if (params.placement == Placement::kGround && p.baseHeight <= 0.0) {
           p.start = scene.NearestOutside(p.start);
           p.baseHeight = 0.0;
@@ -696,6 +854,7 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
       track.targets.col(j) = p.target;
       plan.particles.push_back(p);
     }
+    KeepHeldGhosts(track);
     m_tracks[contact.id] = std::move(track);
   }
   // the source particles no target point took
@@ -847,9 +1006,28 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   // meet, one finger's outline goes inside as the other's moves on), it moves to a free point of
   // its own finger next to its match, or is deleted; a point left without a particle takes one
   // created beside its own finger's nearest (docs/proxies.md, "After the merge").
+  // A point is its finger's whose moved points lie nearest; but where a finger moves on into the
+  // others (a pusher between two pinching fingertips), the points of the others it has just
+  // covered lie within one frame's move of its new points, nearer than its own moved points, and
+  // a point once labelled another's stays so: the pusher's tip creeps to the fingertips. So each
+  // finger's whole outline as it was seen apart (Track::ghosts) moves on with the finger too, and
+  // a point goes to the finger whose whole outline passes nearest. A whole outline is kept only
+  // while it describes its finger: while the points of its finger lie within half the outline's
+  // point spacing of it (the median). The parts of a real hand change shape as they move, and
+  // their outlines of a few frames before soon do not.
   std::vector<ContactId> labels;
   if (!pointMotion.empty() && m > 0) {
     labels.resize(m);
+    for (Track::Ghost& g : track.ghosts) {
+      Pose2 own = contourMotion.motion;
+      for (int k = 0; k < n; ++k) {
+        if (fingerOf(k) == g.finger) {
+          own = pointMotion[k];
+          break;
+        }
+      }
+      g.outline = Transformed(g.outline, own);
+    }
     for (int j = 0; j < m; ++j) {
       int nearest = 0;
       double best = std::numeric_limits<double>::infinity();
@@ -861,6 +1039,58 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
         }
       }
       labels[j] = fingerOf(nearest);
+    }
+    double length = 0.0;
+    for (int j = 0; j < m; ++j) length += (cur.col(WrapIndex(j + 1, m)) - cur.col(j)).norm();
+    const double spacing = length / m;
+    if (!track.ghosts.empty()) {
+      std::vector<double> off;
+      std::erase_if(track.ghosts, [&](Track::Ghost& g) {
+        // the finger's fitted motion leaves a little error every frame; laid back onto the
+        // finger's points it does not add up
+        std::vector<int> members;
+        for (int j = 0; j < m; ++j) {
+          if (labels[j] == g.finger) members.push_back(j);
+        }
+        if (members.empty()) return true;
+        Contour piece(2, static_cast<Eigen::Index>(members.size()));
+        for (size_t i = 0; i < members.size(); ++i) piece.col(i) = cur.col(members[i]);
+        const Vec2 onto = EstimatePieceMotion(piece, g.outline, Pose2{}).pos;
+        g.outline.colwise() -= onto;
+        off.clear();
+        for (const int j : members) off.push_back(OutlineDistance2(g.outline, cur.col(j)));
+        auto mid = off.begin() + static_cast<std::ptrdiff_t>(off.size() / 2);
+        std::nth_element(off.begin(), mid, off.end());
+        return *mid > 0.25 * spacing * spacing;
+      });
+    }
+    if (track.ghosts.size() >= 2) {
+      for (int j = 0; j < m; ++j) {
+        // a finger whose whole outline no longer describes it keeps its points, and so does
+        // one whose outline passes within half a spacing as near as another's (where two
+        // fingers' outlines meet)
+        double ownDistance = std::numeric_limits<double>::infinity();
+        double best = std::numeric_limits<double>::infinity();
+        ContactId nearest = kNoId;
+        // A point starts as its particle's finger where that finger still has its whole
+        // outline: where two outlines meet, the nearest moved point is often the other's, and
+        // the particle, pressing an object with its own finger's skin, would be deleted
+        if (pred[j] >= 0) {
+          const ContactId held = fingerOf(pred[j]);
+          for (const Track::Ghost& g : track.ghosts) {
+            if (g.finger == held) labels[j] = held;
+          }
+        }
+        for (const Track::Ghost& g : track.ghosts) {
+          const double d = std::sqrt(OutlineDistance2(g.outline, cur.col(j)));
+          if (g.finger == labels[j]) ownDistance = d;
+          if (d < best) {
+            best = d;
+            nearest = g.finger;
+          }
+        }
+        if (best <= 0.25 * spacing && best + 0.5 * spacing < ownDistance) labels[j] = nearest;
+      }
     }
     std::vector<int> own = pred;
     std::vector<bool> placed(n, false);
@@ -924,7 +1154,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
       p.action = ParticleAction::kReused;
       reused[j] = true;
       if (params.subsample) {
-        p.target = SubsampleTarget(cur, j, lastTarget(pred[j]), motion);
+        p.target = SubsampleTarget(cur, j, lastTarget(pred[j]), motion, labels, fingerOf(pred[j]));
       }
       p.baseHeight = heightOf(pred[j]);
       fingers[j] = fingerOf(pred[j]);
@@ -994,6 +1224,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
   track.fingers = std::move(fingers);
   track.targets = std::move(targets);
   track.motion = compensate ? contourMotion.motion : motion;
+  KeepHeldGhosts(track);
 }
 
 void ProxyStage::DeleteTrack(ContactId id, const Track& track, ParticlePlan& plan) {

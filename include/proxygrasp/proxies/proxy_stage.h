@@ -81,6 +81,14 @@ class ProxyStage {
     // the contact each point's particle was first created for: its finger. A merged contact
     // holds several, each moving its own way (empty: every point is the contact's own)
     std::vector<ContactId> fingers;
+    // A merged contact's fingers as they were seen apart: each one's last whole outline before
+    // the merge, moved on by that finger's own motion every frame. A point of the outline
+    // belongs to the finger whose whole outline passes nearest (empty: one finger)
+    struct Ghost {
+      ContactId finger = kNoId;
+      Contour outline;  // cm
+    };
+    std::vector<Ghost> ghosts;
   };
 
   void Persistent(const ProxyParams& params, const ContactSet& contacts, const SceneQuery& scene,
