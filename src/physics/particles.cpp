@@ -353,7 +353,6 @@ void LayeredWorld::Impl::PressOnArrival(int layer, b2Fixture* surface, const Vec
   r.friction = particleFriction[r.object];
   r.points = 1;
   r.point = point;
-  r.goalSpeed = p.goalVel.dot(in);
   r.padVel = p.padVel;
   layers[layer]->records.push_back(r);
 }

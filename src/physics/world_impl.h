@@ -65,7 +65,6 @@ struct ContactRecord {
   double friction = 0.0;          ///< mu used by the solver
   int points = 0;
   Vec2 point = Vec2::Zero();   ///< where it acts (the mean of its manifold points), cm
-  double goalSpeed = 0.0;      ///< the pressing body's goal velocity along normalIn, cm/s
   Vec2 padVel = Vec2::Zero();  ///< the velocity of the finger's surface at the body, cm/s
 };
 

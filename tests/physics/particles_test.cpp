@@ -373,6 +373,7 @@ struct Squeeze {
       const double y = 22 + i;
       ps.push_back(Create(i + 1, Vec2(28 - r - 0.5, y), Vec2(28 - r + d, y)));
       ps.push_back(Create(i + 11, Vec2(32 + r + 0.5, y), Vec2(32 + r - d, y)));
+      ps.back().contact = 2;  // each side its own finger
     }
     world.ApplyPlan(Plan(ps));
     for (int f = 0; f < 20; ++f) world.StepFrame();  // settle
