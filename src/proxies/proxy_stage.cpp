@@ -223,20 +223,6 @@ void KeepHeldGhosts(Track& track) {
   if (track.ghosts.size() < 2) track.ghosts.clear();
 }
 
-// the squared distance from q to a closed outline
-double OutlineDistance2(const Contour& outline, const Vec2& q) {
-  const int n = static_cast<int>(outline.cols());
-  double best = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < n; ++k) {
-    const Vec2 a = outline.col(k);
-    const Vec2 ab = Vec2(outline.col(WrapIndex(k + 1, n))) - a;
-    const double len = ab.squaredNorm();
-    const double t = len > 0.0 ? std::clamp((q - a).dot(ab) / len, 0.0, 1.0) : 0.0;
-    best = std::min(best, (a + t * ab - q).squaredNorm());
-  }
-  return best;
-}
-
 void Count(ParticlePlan& plan) {
   plan.reused = plan.created = plan.deleted = 0;
   for (const PlannedParticle& p : plan.particles) {
@@ -592,37 +578,39 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
   // touch) that deleted and created 10 particles of merge_grip at one camera seed, where the
   // outline's change requires 3. open[f][j]: whether finger f's particles may walk onto point j of
   // the one target.
+  // each source's fingers' whole outlines, moved on one frame: its ghosts, or its own outline
+  std::vector<std::vector<Track::Ghost>> whole(from.size());
+  for (size_t i = 0; i < from.size(); ++i) {
+    if (from[i].ghosts.empty()) {
+      whole[i].push_back({sources[i], moved[i]});
+    } else {
+      for (const Track::Ghost& g : from[i].ghosts) {
+        whole[i].push_back({g.finger, Transformed(g.outline, from[i].motion)});
+      }
+    }
+  }
   std::map<ContactId, std::vector<bool>> open;
   if (from.size() > 1 && targets.size() == 1 && targets[0]->blob.contour.cols() > 0) {
     const Contour& cur = targets[0]->blob.contour;
     const int m = static_cast<int>(cur.cols());
-    std::vector<std::pair<ContactId, Contour>> outlines;
-    for (size_t i = 0; i < from.size(); ++i) {
-      if (from[i].ghosts.empty()) {
-        outlines.emplace_back(sources[i], moved[i]);
-      } else {
-        for (const Track::Ghost& g : from[i].ghosts) {
-          outlines.emplace_back(g.finger, Transformed(g.outline, from[i].motion));
-        }
+    const double spacing = Perimeter(cur) / m;
+    std::vector<const Track::Ghost*> outlines;
+    for (const std::vector<Track::Ghost>& w : whole) {
+      for (const Track::Ghost& g : w) {
+        outlines.push_back(&g);
+        open[g.finger].assign(static_cast<size_t>(m), false);
       }
     }
-    double length = 0.0;
-    for (int j = 0; j < m; ++j) length += (cur.col(WrapIndex(j + 1, m)) - cur.col(j)).norm();
-    const double spacing = length / m;
     std::vector<double> distance(outlines.size());
-    for (const auto& [finger, outline] : outlines)
-      open[finger].assign(static_cast<size_t>(m), false);
     for (int j = 0; j < m; ++j) {
       double best = std::numeric_limits<double>::infinity();
       for (size_t o = 0; o < outlines.size(); ++o) {
-        distance[o] = outlines[o].second.cols() > 0
-                          ? std::sqrt(OutlineDistance2(outlines[o].second, cur.col(j)))
-                          : std::numeric_limits<double>::infinity();
+        distance[o] = DistanceToBoundary(outlines[o]->outline, cur.col(j));
         best = std::min(best, distance[o]);
       }
       for (size_t o = 0; o < outlines.size(); ++o) {
         if (best > 0.25 * spacing || distance[o] <= best + 0.5 * spacing)
-          open[outlines[o].first][j] = true;
+          open[outlines[o]->finger][j] = true;
       }
     }
   }
@@ -779,14 +767,7 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
     track.motion = from[std::max_element(votes.begin(), votes.end()) - votes.begin()].motion;
     // each finger's whole outline, as its source last saw it apart, moved on one frame
     for (size_t i = 0; i < from.size(); ++i) {
-      if (votes[i] == 0) continue;
-      if (from[i].ghosts.empty()) {
-        track.ghosts.push_back({sources[i], moved[i]});
-      } else {
-        for (const Track::Ghost& g : from[i].ghosts) {
-          track.ghosts.push_back({g.finger, Transformed(g.outline, from[i].motion)});
-        }
-      }
+      if (votes[i] > 0) track.ghosts.insert(track.ghosts.end(), whole[i].begin(), whole[i].end());
     }
     // each point's finger: its particle's, or for a point without one, after a merge, the
     // finger's whose whole outline passes nearest
@@ -801,7 +782,7 @@ void ProxyStage::HandOverFamily(const ProxyParams& params, const std::vector<Con
         }
         double best = std::numeric_limits<double>::infinity();
         for (const Track::Ghost& g : track.ghosts) {
-          const double d = OutlineDistance2(g.outline, cur.col(j));
+          const double d = DistanceToBoundary(g.outline, cur.col(j));
           if (d < best) {
             best = d;
             labels[j] = g.finger;
@@ -1040,9 +1021,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
       }
       labels[j] = fingerOf(nearest);
     }
-    double length = 0.0;
-    for (int j = 0; j < m; ++j) length += (cur.col(WrapIndex(j + 1, m)) - cur.col(j)).norm();
-    const double spacing = length / m;
+    const double spacing = Perimeter(cur) / m;
     if (!track.ghosts.empty()) {
       std::vector<double> off;
       std::erase_if(track.ghosts, [&](Track::Ghost& g) {
@@ -1058,10 +1037,10 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
         const Vec2 onto = EstimatePieceMotion(piece, g.outline, Pose2{}).pos;
         g.outline.colwise() -= onto;
         off.clear();
-        for (const int j : members) off.push_back(OutlineDistance2(g.outline, cur.col(j)));
+        for (const int j : members) off.push_back(DistanceToBoundary(g.outline, cur.col(j)));
         auto mid = off.begin() + static_cast<std::ptrdiff_t>(off.size() / 2);
         std::nth_element(off.begin(), mid, off.end());
-        return *mid > 0.25 * spacing * spacing;
+        return *mid > 0.5 * spacing;
       });
     }
     if (track.ghosts.size() >= 2) {
@@ -1082,7 +1061,7 @@ void ProxyStage::Continue(const ProxyParams& params, const Contact& contact,
           }
         }
         for (const Track::Ghost& g : track.ghosts) {
-          const double d = std::sqrt(OutlineDistance2(g.outline, cur.col(j)));
+          const double d = DistanceToBoundary(g.outline, cur.col(j));
           if (g.finger == labels[j]) ownDistance = d;
           if (d < best) {
             best = d;
