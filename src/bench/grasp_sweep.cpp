@@ -346,7 +346,7 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
-                    double* pressing, std::span<const HiddenDisc> hidden) {
+                    double* pressing, std::span<const HiddenDisc> hidden, double slideFriction) {
   const CrossSection slice = Slice0(object, physics);
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
@@ -375,7 +375,13 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
       d = *depth;
     }
     if (d > 0.0) {
-      total += push * (k * std::min(d, dMax));
+      const double normal = k * std::min(d, dMax);
+      total += push * normal;
+      // a body whose target still advances along `inward` slides over the surface by the part
+      // of `inward` along it, and its friction drags the object that way
+      const Vec2 slide = inward - inward.dot(push) * push;
+      const double length = slide.norm();
+      if (slideFriction > 0.0 && length > 1e-9) total += slide * (slideFriction * normal / length);
       ++bodies;
     }
   });
@@ -441,6 +447,60 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
     if (d > 0.0) torque += Cross(at, push * (k * std::min(d, dMax)));
   });
   return torque / kSamplePhases;
+}
+
+Vec2 GripSlideFriction(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                       const Vec2& restCenter, const Vec2& center, double radius,
+                       const Vec2& inward, const Vec2& slide, double friction,
+                       std::span<const HiddenDisc> hidden) {
+  const CrossSection slice = Slice0(object, physics);
+  const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
+  const double r = physics.particleRadius;
+  Vec2 total = Vec2::Zero();
+  ForEachContourSample(radius, spacing, hidden, [&](const Vec2& along) {
+    const Vec2 rest = restCenter + along;
+    const Vec2 q = center + along;
+    // where the body stopped as it came in, and the normal it presses along (as GripTurnTorque)
+    Vec2 stop, push;
+    double depth;
+    std::optional<Meeting> met;
+    if (slice.circle) {
+      const std::optional<Vec2> at = MeetCircle(slice.radius, rest, inward, r);
+      if (!at) return;
+      stop = *at;
+      push = -stop / (slice.radius + r);
+      depth = (rest - stop).dot(push);
+    } else {
+      met = MeetPolygon(slice.outline, rest, inward, r);
+      if (!met) return;
+      Vec2 at;
+      const std::optional<double> d = MeetingDepth(*met, rest, r, &push, &at);
+      if (!d) return;
+      depth = *d;
+      stop = met->corner ? met->stop : Vec2(at - r * push);
+    }
+    if (depth <= 0.0) return;
+    // its friction limit, by its target's depth now
+    double d;
+    if (slice.circle) {
+      d = (q - stop).dot(push);
+    } else {
+      Vec2 pushNow, atNow;
+      const std::optional<double> now = MeetingDepth(*met, q, r, &pushNow, &atNow);
+      if (!now) return;
+      d = *now;
+    }
+    if (d <= 0.0) return;
+    const double limit = friction * k * std::min(d, dMax);
+    // at rest the body has slid until its pull along the surface is within its limit (targets
+    // that lie off its normal pull it sideways); the move adds to that pull until it slides
+    const Vec2 tangent(-push.y(), push.x());
+    const double held =
+        std::clamp(k * (rest - stop).dot(tangent), -friction * k * std::min(depth, dMax),
+                   friction * k * std::min(depth, dMax));
+    total += tangent * std::clamp(held + k * (q - rest + slide).dot(tangent), -limit, limit);
+  });
+  return total / kSamplePhases;
 }
 
 namespace {
@@ -1199,8 +1259,20 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         double axial = 0.0, held = 0.0, elastic = 0.0;
         double friction = 0.0;  // across, the bodies' friction without the round slice's tilt
       };
-      auto laggedGrip = [&](const Vec2& dir, double l, double acrossLag) {
-        Vec2 sum = Vec2::Zero();
+      // the unit direction across the axis in which the grip moves on from the object
+      const Vec2 acrossDir = sinE > 1e-9 ? Vec2((u - axis * u.dot(axis)).normalized()) : axis;
+      // Sixteenth revision: the friction across body by body (GripSlideFriction). At rest the
+      // bodies on a round slice (and on faces met obliquely) have slid until their pull along
+      // the surface is at its limit, symmetric about the fingertip's push: half of them pull
+      // against any move across and must first give that back. The grip reaches its full friction
+      // across only at about twice the stretch the bodies take from a pull-free start (seed 225
+      // scene 62: a 149 g sphere pinched 1.14 cm deep, mu_p 0.14, gave 70,000 dyn across at a
+      // lag of 0.13 cm, where k n x from a pull-free start is its whole 120,000; it lagged on,
+      // its normals tilted, and it squirted out).
+      auto laggedGrip = [&](const Vec2& dir, double l, double acrossLag,
+                            const Vec2& across = Vec2::Zero()) {
+        const Vec2 side = across.squaredNorm() > 0.0 ? across : acrossDir;
+        Vec2 sum = Vec2::Zero(), friction = Vec2::Zero();
         double normalSum = 0.0, bodies = 0.0;
         for (size_t i = 0; i < fingers; ++i) {
           double pressing = 0.0;
@@ -1211,8 +1283,17 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         }
         Lagged r;
         r.elastic = bodies > 0.0 ? muP * normalSum / (k * bodies) : 0.0;
-        r.friction = std::min(k * bodies * std::min(acrossLag, r.elastic + kBreakLooseSlip),
-                              muP * normalSum);
+        // slid further than the slip that still counts as holding, the grip has let go
+        const double x = std::min(acrossLag, r.elastic + kBreakLooseSlip);
+        if (x > 0.0) {
+          for (size_t i = 0; i < fingers; ++i) {
+            const GraspFinger& f = s.fingers[i];
+            friction +=
+                GripSlideFriction(o, physics, spacing, f.pos - shift, f.pos - shift + dir * l,
+                                  f.radius, f.inward, side * x, muP, hidden[i]);
+          }
+        }
+        r.friction = std::max(0.0, friction.dot(side));
         r.held = r.friction * keep;
         r.axial = std::max(sum.dot(dir), 0.0);
         return r;
@@ -1292,10 +1373,9 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         // slice press through its centre, which has moved off their line, and push it on by about
         // N (x - e) / rho (the seventh revision's tilt); a thumb against two fingertips cradles it,
         // the one it moved towards pressing deeper.
-        const Vec2 acrossDir = sinE > 1e-9 ? Vec2((u - axis * u.dot(axis)).normalized()) : axis;
         // `back`: where the grip is from the object (acrossDir catching up, -acrossDir stopping)
         auto acrossHold = [&](const Vec2& dir, const Vec2& back, double x) {
-          const Lagged r = laggedGrip(dir, 0.0, x);
+          const Lagged r = laggedGrip(dir, 0.0, x, back);
           const double slid = std::max(0.0, x - r.elastic);
           Vec2 normals = Vec2::Zero();
           for (size_t i = 0; i < fingers; ++i) normals += force(i, shift - back * slid);
@@ -1474,13 +1554,22 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
     // place it stopped and ends at the first d where D(d) <= C(d): it follows (stays within
     // kFollowDistance) when some d up to that distance has D(d) <= C(d). The margin is the best
     // C / D over d.
+    // Sixteenth revision: the pusher's own friction. While the pusher comes in and the object
+    // has stopped, each of its pressing bodies slides over the surface by the part of u that
+    // lies along it (a body holds its aim along a surface as hard as its friction lets it:
+    // `ApplyKinematicControl` springs only the normal part), and its friction drags the object
+    // that way: along u by mu_p N sin(alpha), alpha the angle between u and its normal. Before,
+    // D counted the pusher's normal forces alone, N cos(alpha) along u: on a face met obliquely
+    // short by mu_p N sin(alpha) (218 #446: a hexagon face 21 degrees off the push took 278,000
+    // dyn along u from a pusher pressing 260,000 normal to it).
     const Vec2 u = s.pusher.inward;
     p.margin = 0.0;
     constexpr int kPushLags = 16;
     for (int j = 0; j <= kPushLags; ++j) {
       const Vec2 moved = shift + u * (kFollowDistance * j / kPushLags);
-      Vec2 drive = FingertipForce(o, physics, spacing, s.pusher.pos - moved, s.pusher.radius,
-                                  s.pusher.inward, hidden.back());
+      const Vec2 at = s.pusher.pos - moved;
+      Vec2 drive = FingertipForce(o, physics, spacing, at, at, s.pusher.radius, s.pusher.inward,
+                                  nullptr, hidden.back(), muP);
       double gripNormal = 0.0;
       for (size_t i = 0; i < fingers; ++i) {
         const Vec2 f = force(i, moved);

@@ -575,6 +575,79 @@ TEST(GraspRule, AFingertipPushedPastTheCentreOfASmallerRoundSliceStillPushesForw
   EXPECT_GE(shallow.norm(), 0.8 * radialSum / 16.0);
 }
 
+TEST(GraspRule, APusherComingInObliquelyDragsTheFaceWithItsFriction) {
+  // A fingertip (R 0.8) coming in along u, 30 degrees off the -x normal of a box's +x face, its
+  // contour 0.4 cm inside. Each pressing body presses N_b along -x; as its target advances along
+  // u it slides over the face along u's part on the face (+y here, sin 30 of u), so its friction
+  // mu N_b drags the face along +y. The fingertip's force is N (-x) + mu N (+y), N the normal
+  // force alone: along u, N (cos 30 + mu sin 30). Head on (u = -x) nothing slides: no friction.
+  const PhysicsParams physics;
+  const ObjectSpec box = Box(4.0, 4.0, 100.0);
+  const double alpha = DegToRad(30.0), mu = 0.8, radius = 0.8;
+  const Vec2 u(-std::cos(alpha), std::sin(alpha));
+  const Vec2 at(2.0 + radius - 0.4, 0.0);
+  const Vec2 normal = FingertipForce(box, physics, 0.3, at, at, radius, u);
+  const Vec2 dragged = FingertipForce(box, physics, 0.3, at, at, radius, u, nullptr, {}, mu);
+  ASSERT_GT(normal.norm(), 0.0);
+  EXPECT_NEAR(normal.y(), 0.0, 1e-9 * normal.norm());  // a flat face: normal forces along -x
+  const Vec2 expected = normal + Vec2(0.0, mu * normal.norm());
+  EXPECT_NEAR((dragged - expected).norm(), 0.0, 1e-9 * normal.norm());
+  EXPECT_NEAR(dragged.dot(u), normal.norm() * (std::cos(alpha) + mu * std::sin(alpha)),
+              1e-9 * normal.norm());
+  const Vec2 in(-1.0, 0.0);
+  EXPECT_NEAR((FingertipForce(box, physics, 0.3, at, at, radius, in, nullptr, {}, mu) -
+               FingertipForce(box, physics, 0.3, at, at, radius, in))
+                  .norm(),
+              0.0, 1e-9 * normal.norm());
+}
+
+TEST(GraspRule, APinchedRoundSliceStartsWithHalfItsBodiesFrictionPullingAgainstAMove) {
+  // Two fingertips (R 0.8) pinch a cylinder of radius 2 along x, contours 1.0 cm inside, mu_p
+  // 0.1. A body came in along the push and stopped on the slice at angle beta from the axis; its
+  // target lies on the same line, so its pull along the surface is about its depth times
+  // tan(beta): beyond beta = atan(0.1) = 5.7 degrees it exceeds mu_p N_b, and the body has slid
+  // until its pull is mu_p N_b, away from the axis, symmetric about it. At rest the friction
+  // cancels. Moved across (along y) by x, a body pulling with the move gives no more, one
+  // pulling against it must first give its pull back: at the stretch e = mu_p N / (k n), where a
+  // pull-free start has reached the full friction, the preloaded grip gives at most the half of
+  // the bodies that pull with the move plus the bodies within 5.7 degrees of the axis. Those are
+  // (with their cos beta weights) under a fifth of the arc pressing (within about 55 degrees of
+  // the axis): at most 0.5 + 0.5 * 0.2 = 0.6 of the full friction. Moved 0.5 cm, every body has
+  // slid: the full friction mu_p sum N_b cos(beta), mu_p times the fingertip's normal force
+  // along the axis (1%, the sampling).
+  const PhysicsParams physics;
+  ObjectSpec cylinder = Cylinder(2.0, 100.0);
+  const double radius = 0.8, mu = 0.1, k = physics.gripStiffness;
+  double normal = 0.0, bodies = 0.0;
+  std::vector<GraspFinger> fingers;
+  for (double sign : {-1.0, 1.0}) {
+    GraspFinger f;
+    f.radius = radius;
+    f.inward = Vec2(-sign, 0.0);
+    f.pos = Vec2(sign * (2.0 + radius - 1.0), 0.0);
+    double pressing = 0.0;
+    normal +=
+        FingertipForce(cylinder, physics, 0.3, f.pos, f.pos, radius, f.inward, &pressing).norm();
+    bodies += pressing;
+    fingers.push_back(f);
+  }
+  const Vec2 w(0.0, 1.0);
+  auto friction = [&](double x) {
+    double sum = 0.0;
+    for (const GraspFinger& f : fingers) {
+      sum += GripSlideFriction(cylinder, physics, 0.3, f.pos, f.pos, radius, f.inward, w * x, mu)
+                 .dot(w);
+    }
+    return sum;
+  };
+  const double full = friction(0.5);
+  EXPECT_NEAR(full, mu * normal, 0.01 * mu * normal);
+  EXPECT_NEAR(friction(0.0), 0.0, 1e-6 * full);
+  const double e = mu * normal / (k * bodies);
+  EXPECT_LT(friction(e), 0.6 * full);
+  EXPECT_GT(friction(e), 0.0);
+}
+
 TEST(GraspRule, APusherIsResistedWithTheForceItHasLeftOnceTheObjectMovedTheFollowDistance) {
   // A third fingertip (R 0.8) with its contour 2 cm inside the box's +y face, held there: an
   // object it pushes away presses it less, so the box stays within 1 cm of the grip when the
@@ -859,18 +932,27 @@ TEST(GraspRule, AStepCatchesUpWithTheEnergyTheGripTakesWithinItsElasticLag) {
   // after the step only kinetic friction is needed, so the requirement is static friction
   EXPECT_NEAR(p.requirement, muS, 1e-6);
 
-  // Across the axis only the pressing bodies' springs catch it up, k n x until friction mu_p N
-  // slides them, within their stretch mu_p N / (k n) plus the 0.5 cm of slip breaking loose may
-  // take. mu_p 0.6: friction 0.6 N must first reach mu_s W.
+  // Across the axis only the pressing bodies' springs catch it up: each a spring k x until its
+  // own friction mu_p k min(d, d_max) slides it (the shallow ones first; on a flat face met
+  // head-on no body pulls sideways at rest), within the stretch mu_p N / (k n) plus the 0.5 cm of
+  // slip breaking loose may take. mu_p 0.6: friction 0.6 N must first reach mu_s W.
   const GraspScene across = StepCarryScene(Vec2(0.0, 1.0), 0.6);
   const GraspPrediction q = PredictGrasp(across, physics, 0.3);
   const double k = physics.gripStiffness;
   const double n = 2.0 * FlatFaceIntegral(physics, 0.3, 0.8, 0.4);
   const double bodies = 2.0 * FlatFacePressingPoints(physics, 0.3, 0.8, 0.4);
   const double friction = 0.6 * n, limit = friction / (k * bodies) + 0.5;
-  auto held = [&](double x) { return std::min(k * bodies * x, friction); };
+  auto held = [&](double x) {
+    return 2.0 * OutlineIntegral(
+                     physics, 0.3, 0.8, 0.4,
+                     [&](double d, double) {
+                       return std::min(k * x, 0.6 * k * std::min(d, physics.gripMaxDepth));
+                     },
+                     20000);
+  };
   ASSERT_GT(friction, muS);
-  const double x0 = muS / (k * bodies);
+  double x0 = 0.0, x1 = limit;  // where the springs reach static friction
+  for (int i = 0; i < 30; ++i) (held(0.5 * (x0 + x1)) < muS ? x0 : x1) = 0.5 * (x0 + x1);
   const double acrossStart =
       std::sqrt(2.0 * MostEnergy([&](double x) { return held(x) - muK; }, x0, limit) / 300.0);
   EXPECT_NEAR(q.catchUpSpeed, acrossStart, 0.03 * acrossStart);

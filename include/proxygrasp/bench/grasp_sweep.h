@@ -167,10 +167,26 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 /// The same for a fingertip that came in to `restCenter` and then moved to `center` relative to
 /// the object (the object lagging): on a round slice the bodies stay where they met it.
 /// `pressing`, when given, receives how many of its bodies press (averaged over the sampling
-/// phases, like the force).
+/// phases, like the force). A fingertip whose target still advances along `inward` over the
+/// object (a pusher coming in) slides each pressing body over the surface along the part of
+/// `inward` that lies along it; with `slideFriction` mu > 0 the result adds that body's friction,
+/// mu times its normal force, along its slide.
 Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                     const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
-                    double* pressing = nullptr, std::span<const HiddenDisc> hidden = {});
+                    double* pressing = nullptr, std::span<const HiddenDisc> hidden = {},
+                    double slideFriction = 0.0);
+/// The friction force, dyn (object frame), that one fingertip's bodies give an object they grip
+/// when the fingertip came in to `restCenter` (object frame), then moved to `center` (which sets
+/// each body's normal force, by its target's depth, as in FingertipForce) and on by `slide` along
+/// the object's surface. Each body stays where it met the object and is a spring k towards its
+/// target along the surface until its friction (`friction` times its normal force) slides it.
+/// At rest a body whose target lies off its normal (on a round slice, or a face met obliquely)
+/// has already slid until its pull is at that limit, and the move adds to that pull: a pinch of
+/// a round slice starts with half its bodies' friction pulling against any move.
+Vec2 GripSlideFriction(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                       const Vec2& restCenter, const Vec2& center, double radius,
+                       const Vec2& inward, const Vec2& slide, double friction,
+                       std::span<const HiddenDisc> hidden = {});
 /// The torque, dyn cm about the object's origin (counter-clockwise positive), that one
 /// fingertip's bodies give an object they grip when the fingertip (contour centre `center`,
 /// object frame) has turned by `turn` radians about the origin relative to it. Each body stays
