@@ -331,6 +331,51 @@ std::optional<double> MeetingDepth(const Meeting& met, const Vec2& q, double r, 
   return d;
 }
 
+// A body of a fingertip's contour that came in along `inward` with its target at rest: where it
+// stopped (its centre), the normal it presses along, the point of the object it presses, its
+// target's depth, and on a polygon what it met.
+struct BodyAtRest {
+  Vec2 stop = Vec2::Zero(), push = Vec2::Zero(), at = Vec2::Zero();
+  double depth = 0.0;
+  std::optional<Meeting> met;
+};
+
+// nothing when the body meets nothing of the slice
+std::optional<BodyAtRest> MeetBody(const CrossSection& slice, const Vec2& rest, const Vec2& inward,
+                                   double r) {
+  BodyAtRest b;
+  if (slice.circle) {
+    const double reach = slice.radius + r;
+    const std::optional<Vec2> stop = MeetCircle(slice.radius, rest, inward, r);
+    if (!stop) return std::nullopt;
+    b.stop = *stop;
+    b.push = -b.stop / reach;
+    b.at = b.stop * (slice.radius / reach);
+    b.depth = (rest - b.stop).dot(b.push);
+    return b;
+  }
+  b.met = MeetPolygon(slice.outline, rest, inward, r);
+  if (!b.met) return std::nullopt;
+  const std::optional<double> d = MeetingDepth(*b.met, rest, r, &b.push, &b.at);
+  if (!d) return std::nullopt;
+  b.depth = *d;
+  b.stop = b.met->corner ? b.met->stop : Vec2(b.at - r * b.push);
+  return b;
+}
+
+// its target's depth once the target is at q: on a round slice along the normal where it
+// stopped, on a polygon as MeetingDepth (`atNow`: where it presses then); nothing when it has
+// slid off its face's ends
+std::optional<double> DepthNow(const CrossSection& slice, const BodyAtRest& b, const Vec2& q,
+                               double r, Vec2* atNow) {
+  if (slice.circle) {
+    *atNow = b.at;
+    return (q - b.stop).dot(b.push);
+  }
+  Vec2 pushNow;
+  return MeetingDepth(*b.met, q, r, &pushNow, atNow);
+}
+
 // the most can-hold scenes the sweep keeps (GraspSweepOptions::holdShare of the count)
 int HoldQuota(const GraspSweepOptions& options) {
   return static_cast<int>(std::floor(options.holdShare * options.scenes + 1e-9));
@@ -402,27 +447,12 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
     const Vec2 q(c * rest.x() - s * rest.y(), s * rest.x() + c * rest.y());
     // where the body stopped as it came in (its centre), the normal it presses along, the point
     // of the object it presses and its depth, all with the grip at rest
-    Vec2 stop, push, at;
-    double depth;
-    std::optional<Meeting> met;
-    if (slice.circle) {
-      const double reach = slice.radius + r;
-      const std::optional<Vec2> met = MeetCircle(slice.radius, rest, inward, r);
-      if (!met) return;
-      stop = *met;
-      push = -stop / reach;
-      at = stop * (slice.radius / reach);
-      depth = (rest - stop).dot(push);
-    } else {
-      met = MeetPolygon(slice.outline, rest, inward, r);
-      if (!met) return;
-      const std::optional<double> d = MeetingDepth(*met, rest, r, &push, &at);
-      if (!d) return;
-      depth = *d;
-      stop = met->corner ? met->stop : Vec2(at - r * push);
-    }
-    if (depth <= 0.0) return;
-    const double normal = k * std::min(depth, dMax);
+    const std::optional<BodyAtRest> body = MeetBody(slice, rest, inward, r);
+    if (!body || body->depth <= 0.0) return;
+    const Vec2& stop = body->stop;
+    const Vec2& push = body->push;
+    Vec2 at = body->at;
+    const double normal = k * std::min(body->depth, dMax);
     // along the surface the body is a spring k towards its target until its friction slides;
     // at rest it has slid until its pull is within the limit (on a round slice the targets lie
     // off the bodies' normals and pull them sideways), and the turn adds to that pull
@@ -434,17 +464,11 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
     torque += Cross(at, tangent) * std::clamp(pull, -limit, limit);
     // its normal force, by its target's depth now: a body that slides follows its target along
     // its face (or stays on its corner); one that sticks presses where it met the object
-    double d;
-    if (slice.circle) {
-      d = (q - stop).dot(push);
-    } else {
-      Vec2 pushNow, atNow;
-      const std::optional<double> now = MeetingDepth(*met, q, r, &pushNow, &atNow);
-      if (!now) return;
-      d = *now;
-      if (slides) at = atNow;
-    }
-    if (d > 0.0) torque += Cross(at, push * (k * std::min(d, dMax)));
+    Vec2 atNow;
+    const std::optional<double> d = DepthNow(slice, *body, q, r, &atNow);
+    if (!d) return;
+    if (slides) at = atNow;
+    if (*d > 0.0) torque += Cross(at, push * (k * std::min(*d, dMax)));
   });
   return torque / kSamplePhases;
 }
@@ -461,43 +485,18 @@ Vec2 GripSlideFriction(const ObjectSpec& object, const PhysicsParams& physics, d
     const Vec2 rest = restCenter + along;
     const Vec2 q = center + along;
     // where the body stopped as it came in, and the normal it presses along (as GripTurnTorque)
-    Vec2 stop, push;
-    double depth;
-    std::optional<Meeting> met;
-    if (slice.circle) {
-      const std::optional<Vec2> at = MeetCircle(slice.radius, rest, inward, r);
-      if (!at) return;
-      stop = *at;
-      push = -stop / (slice.radius + r);
-      depth = (rest - stop).dot(push);
-    } else {
-      met = MeetPolygon(slice.outline, rest, inward, r);
-      if (!met) return;
-      Vec2 at;
-      const std::optional<double> d = MeetingDepth(*met, rest, r, &push, &at);
-      if (!d) return;
-      depth = *d;
-      stop = met->corner ? met->stop : Vec2(at - r * push);
-    }
-    if (depth <= 0.0) return;
+    const std::optional<BodyAtRest> body = MeetBody(slice, rest, inward, r);
+    if (!body || body->depth <= 0.0) return;
     // its friction limit, by its target's depth now
-    double d;
-    if (slice.circle) {
-      d = (q - stop).dot(push);
-    } else {
-      Vec2 pushNow, atNow;
-      const std::optional<double> now = MeetingDepth(*met, q, r, &pushNow, &atNow);
-      if (!now) return;
-      d = *now;
-    }
-    if (d <= 0.0) return;
-    const double limit = friction * k * std::min(d, dMax);
+    Vec2 atNow;
+    const std::optional<double> d = DepthNow(slice, *body, q, r, &atNow);
+    if (!d || *d <= 0.0) return;
+    const double limit = friction * k * std::min(*d, dMax);
     // at rest the body has slid until its pull along the surface is within its limit (targets
     // that lie off its normal pull it sideways); the move adds to that pull until it slides
-    const Vec2 tangent(-push.y(), push.x());
-    const double held =
-        std::clamp(k * (rest - stop).dot(tangent), -friction * k * std::min(depth, dMax),
-                   friction * k * std::min(depth, dMax));
+    const Vec2 tangent(-body->push.y(), body->push.x());
+    const double atRest = friction * k * std::min(body->depth, dMax);
+    const double held = std::clamp(k * (rest - body->stop).dot(tangent), -atRest, atRest);
     total += tangent * std::clamp(held + k * (q - rest + slide).dot(tangent), -limit, limit);
   });
   return total / kSamplePhases;
