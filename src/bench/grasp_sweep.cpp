@@ -424,9 +424,11 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
       total += push * normal;
       // a body whose target still advances along `inward` slides over the surface by the part
       // of `inward` along it, and its friction drags the object that way
-      const Vec2 slide = inward - inward.dot(push) * push;
-      const double length = slide.norm();
-      if (slideFriction > 0.0 && length > 1e-9) total += slide * (slideFriction * normal / length);
+      if (slideFriction > 0.0) {
+        const Vec2 slide = inward - inward.dot(push) * push;
+        const double length = slide.norm();
+        if (length > 1e-9) total += slide * (slideFriction * normal / length);
+      }
       ++bodies;
     }
   });
