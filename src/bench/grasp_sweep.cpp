@@ -20,6 +20,7 @@
 #include <optional>
 #include <sstream>
 #include <thread>
+#include <unordered_map>
 
 namespace pg {
 
@@ -438,15 +439,19 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 
 double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                       const Vec2& center, double radius, const Vec2& inward, double turn,
-                      double friction, std::span<const HiddenDisc> hidden) {
+                      double friction, std::span<const HiddenDisc> hidden,
+                      std::optional<double> peak) {
   const CrossSection slice = Slice0(object, physics);
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
   const double c = std::cos(turn), s = std::sin(turn);
+  const double top = peak.value_or(turn);
+  const double cp = std::cos(top), sp = std::sin(top);
   double torque = 0.0;
   ForEachContourSample(radius, spacing, hidden, [&](const Vec2& along) {
     const Vec2 rest = center + along;
     const Vec2 q(c * rest.x() - s * rest.y(), s * rest.x() + c * rest.y());
+    const Vec2 qPeak(cp * rest.x() - sp * rest.y(), sp * rest.x() + cp * rest.y());
     // where the body stopped as it came in (its centre), the normal it presses along, the point
     // of the object it presses and its depth, all with the grip at rest
     const std::optional<BodyAtRest> body = MeetBody(slice, rest, inward, r);
@@ -461,8 +466,12 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
     const Vec2 tangent(-push.y(), push.x());
     const double limit = friction * normal;
     const double held = std::clamp(k * (rest - stop).dot(tangent), -limit, limit);
-    const double pull = held + k * (q - rest).dot(tangent);
-    const bool slides = std::abs(pull) > limit;
+    // the turn out to its peak adds to that pull, and the way back from the peak takes from it
+    // (a body that slid on the way out holds the pull at its limit there, and springs back
+    // elastically from it)
+    const double pullPeak = held + k * (qPeak - rest).dot(tangent);
+    const double pull = std::clamp(pullPeak, -limit, limit) + k * (q - qPeak).dot(tangent);
+    const bool slides = std::abs(pullPeak) > limit || std::abs(pull) > limit;
     torque += Cross(at, tangent) * std::clamp(pull, -limit, limit);
     // its normal force, by its target's depth now: a body that slides follows its target along
     // its face (or stays on its corner); one that sticks presses where it met the object
@@ -473,6 +482,86 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
     if (*d > 0.0) torque += Cross(at, push * (k * std::min(*d, dMax)));
   });
   return torque / kSamplePhases;
+}
+
+TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
+                         const std::function<double(double, double)>& unloading,
+                         double staticTorque, double kineticTorque, double inertia, double rate,
+                         double maxLag) {
+  constexpr double kStep = DegToRad(0.25);
+  TurnStepLags lags;
+  lags.breakLoose = lags.peak = lags.sliding = lags.rest = kInfinity;
+  const double energy = 0.5 * inertia * rate * rate;
+  // where an integral of g over [a, b] (g linear between ga and gb) reaches `need`, as a
+  // fraction of the way from a to b (the area is a quadratic in it)
+  auto reach = [](double ga, double gb, double need, double width) {
+    const double slope = (gb - ga) / width;
+    if (std::abs(slope) * width < 1e-12 * (std::abs(ga) + std::abs(gb)) || slope == 0.0)
+      return ga > 0.0 ? need / ga : width;
+    const double disc = ga * ga + 2.0 * slope * need;
+    return disc <= 0.0 ? width : (std::sqrt(disc) - ga) / slope;
+  };
+  // at rest until the grip's torque reaches static friction; then it catches up, the grip's
+  // excess over kinetic friction taking the energy it has relative to the grip
+  const int steps = static_cast<int>(std::ceil(maxLag / kStep));
+  double x = 0.0, g = loading(0.0);
+  bool loose = g >= staticTorque;
+  if (loose) lags.breakLoose = 0.0;
+  double taken = 0.0;
+  for (int j = 1; j <= steps && lags.peak == kInfinity; ++j) {
+    const double xNext = j * kStep, gNext = loading(xNext);
+    if (!loose) {
+      if (gNext >= staticTorque) {
+        loose = true;
+        lags.breakLoose = xNext - kStep * (gNext - staticTorque) / (gNext - g);
+        x = lags.breakLoose;
+        g = staticTorque;
+      } else {
+        x = xNext;
+        g = gNext;
+        continue;
+      }
+    }
+    const double width = xNext - x;
+    const double area = 0.5 * (g - kineticTorque + gNext - kineticTorque) * width;
+    if (width > 0.0 && taken + area >= energy) {
+      lags.peak = x + reach(g - kineticTorque, gNext - kineticTorque, energy - taken, width);
+    }
+    taken += area;
+    x = xNext;
+    g = gNext;
+  }
+  if (lags.peak == kInfinity) return lags;
+  // back from the peak to where it slides on with the grip, then on through the stop until the
+  // table's kinetic friction less the grip's torque has taken the same energy again
+  const double peak = lags.peak;
+  double y = peak, u = unloading(peak, peak);
+  if (u <= kineticTorque) lags.sliding = peak;
+  taken = 0.0;
+  for (int j = 1; j <= 4 * steps; ++j) {
+    const double yNext = peak - j * kStep, uNext = unloading(peak, yNext);
+    if (lags.sliding == kInfinity) {
+      if (uNext > kineticTorque) {
+        y = yNext;
+        u = uNext;
+        continue;
+      }
+      lags.sliding = y - kStep * (u - kineticTorque) / (u - uNext);
+      y = lags.sliding;
+      u = kineticTorque;
+    }
+    const double width = y - yNext;
+    const double area = 0.5 * (kineticTorque - u + kineticTorque - uNext) * width;
+    if (width > 0.0 && taken + area >= energy) {
+      lags.rest = y - reach(kineticTorque - u, kineticTorque - uNext, energy - taken, width);
+      return lags;
+    }
+    taken += area;
+    y = yNext;
+    u = uNext;
+  }
+  lags.rest = -kInfinity;  // it runs on past the grip as far as the scan looks
+  return lags;
 }
 
 Vec2 GripSlideFriction(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
@@ -1488,12 +1577,14 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       atRest[i] = GripTurnTorque(o, physics, spacing, f.pos - shift, f.radius, f.inward, 0.0, muP,
                                  hidden[i]);
     }
-    auto gripTorque = [&](double sign, double lag) {
+    auto gripTorque = [&](double sign, double lag, std::optional<double> peak = std::nullopt) {
       double torque = 0.0;
+      const std::optional<double> turnedTo =
+          peak ? std::optional<double>(sign * *peak) : std::nullopt;
       for (size_t i = 0; i < fingers; ++i) {
         const GraspFinger& f = s.fingers[i];
         torque += sign * (GripTurnTorque(o, physics, spacing, f.pos - shift, f.radius, f.inward,
-                                         sign * lag, muP, hidden[i]) -
+                                         sign * lag, muP, hidden[i], turnedTo) -
                           atRest[i]);
       }
       return torque;
@@ -1501,43 +1592,60 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
     p.capacity = gripTorque(turnSign, kFollowAngle);
     p.margin = p.requirement > 0 ? p.capacity / p.requirement : kInfinity;
     if (step) {
-      // a step of the turn rate: as for a carry's step, with torques, the inertia and the
-      // 5 degrees of lag that still count as following
-      auto torqueAt = [&](double sign) {
-        return [&, sign](double lag) { return gripTorque(sign, lag); };
-      };
+      // Seventeenth revision: a step of the turn rate, followed through its phases (TurnStepLag,
+      // docs/physics.md "A turn step"): at rest until the grip's torque reaches static
+      // friction, the catch-up to the peak lag, sliding on with the grip where the torque on the
+      // way back from the peak is kinetic friction, and the run-on at the stop. It follows when
+      // it comes to rest within 5 degrees of the grip. The margin is how much heavier (or, when
+      // it runs on past the grip, lighter) the object could be and still follow: its weight and
+      // inertia, and with them the table's friction, scaled together against the same grip (as
+      // the margins above, capacity over a requirement that scales with the mass).
+      constexpr double kMaxLag = DegToRad(30.0);
+      constexpr double kMostFactor = 4.0;
+      constexpr int kHalvings = 10;
       const double staticTorque = o.tableStatic * weight * rEff;
       const double kineticTorque = o.tableKinetic * weight * rEff;
-      // Ninth revision: how far the object may lag (or, stopping, lead) while it catches up. A
-      // lag the grip holds elastically is given back: its torque rises with the lag until the
-      // bodies slide (on a round slice friction alone turns it, flat once every body slides) or
-      // leave their faces' ends, and the object comes to rest where the table's static friction
-      // holds it against the grip, at most the lag eps0 at which the grip's torque reached static
-      // friction. Only what the grip slides beyond that elastic lag stays behind. So the object
-      // follows within 5 degrees when eps0 is within 5 degrees (the margin C(5 deg) / R above)
-      // and the lag it reaches while catching up stays within the elastic lag plus the 5 degrees
-      // less eps0 it may keep; never less than the 5 degrees that counted before.
-      auto lagLimit = [&](double sign) {
-        constexpr double kScanStep = DegToRad(0.5);
-        constexpr int kScanSteps = 60;  // up to 30 degrees
-        double previous = 0.0, elastic = kScanSteps * kScanStep, loose = kInfinity;
-        for (int j = 1; j <= kScanSteps; ++j) {
-          const double lag = j * kScanStep, torque = gripTorque(sign, lag);
-          if (loose == kInfinity && torque >= staticTorque) loose = lag;
-          if (torque <= previous) {
-            elastic = lag - kScanStep;
-            break;
-          }
-          previous = torque;
-        }
-        if (loose > elastic) return kFollowAngle;
-        return std::max(kFollowAngle, elastic + kFollowAngle - loose);
+      std::unordered_map<double, double> loaded;  // the grip's torque out from rest, by lag
+      auto loading = [&](double lag) {
+        auto [it, fresh] = loaded.try_emplace(lag, 0.0);
+        if (fresh) it->second = gripTorque(turnSign, lag);
+        return it->second;
       };
-      p.catchUpSpeed = catchUp(torqueAt(turnSign), torqueAt(turnSign), lagLimit(turnSign),
-                               staticTorque, kineticTorque, mass.inertia, false);
-      p.stopSpeed = catchUp(torqueAt(-turnSign), torqueAt(-turnSign), lagLimit(-turnSign),
-                            staticTorque, kineticTorque, mass.inertia, true);
-      p.margin = std::min({p.margin, p.catchUpSpeed / s.turnRate, p.stopSpeed / s.turnRate});
+      auto unloading = [&](double peak, double lag) { return gripTorque(turnSign, lag, peak); };
+      auto restsAt = [&](double factor) {
+        return TurnStepLag(loading, unloading, factor * staticTorque, factor * kineticTorque,
+                           factor * mass.inertia, s.turnRate, kMaxLag)
+            .rest;
+      };
+      auto follows = [&](double factor) { return std::abs(restsAt(factor)) <= kFollowAngle; };
+      // the factor where following turns to not, between one that follows and one that does
+      // not (halving the ratio between them)
+      auto edge = [&](double good, double bad) {
+        for (int i = 0; i < kHalvings; ++i) {
+          const double middle = std::sqrt(good * bad);
+          (follows(middle) ? good : bad) = middle;
+        }
+        return good;
+      };
+      const double lag = restsAt(1.0);
+      if (std::abs(lag) <= kFollowAngle) {
+        const double heavier = follows(kMostFactor) ? kMostFactor : edge(1.0, kMostFactor);
+        const double lighter =
+            follows(1.0 / kMostFactor) ? 1.0 / kMostFactor : edge(1.0, 1.0 / kMostFactor);
+        p.margin = std::min(heavier, 1.0 / lighter);
+      } else {
+        // it stays behind (or runs on past the grip): the nearest lighter (heavier) factor that
+        // follows, in quarter octaves out to 1/4 (4), then halved to the edge; 0 for none
+        const double side = lag > 0.0 ? -1.0 : 1.0;
+        double bad = 1.0, nearest = 0.0;
+        for (int k = 1; k <= 8 && nearest == 0.0; ++k) {
+          const double factor = std::pow(kMostFactor, side * k / 8.0);
+          if (follows(factor)) nearest = edge(factor, bad);
+          bad = factor;
+        }
+        p.margin = nearest == 0.0 ? 0.0 : (lag > 0.0 ? nearest : 1.0 / nearest);
+      }
+      p.turnStepRest = lag;
       p.capacity = p.margin * p.requirement;
     }
   } else {
@@ -1684,9 +1792,11 @@ std::string GraspSceneToml(const GraspScene& s, const GraspPrediction& predictio
   if (prediction.slideTurn > 0.0) {
     t << ", a fingertip slides " << RadToDeg(prediction.slideTurn) << " deg round the slice";
   }
-  if (s.profile == GraspProfile::kStep && s.motion != GraspMotion::kPush) {
+  if (s.profile == GraspProfile::kStep && s.motion == GraspMotion::kTurn) {
+    t << ", step: rests " << RadToDeg(prediction.turnStepRest) << " deg behind the grip";
+  } else if (s.profile == GraspProfile::kStep && s.motion != GraspMotion::kPush) {
     t << ", step: catches up to " << prediction.catchUpSpeed << ", stops from "
-      << prediction.stopSpeed << (s.motion == GraspMotion::kTurn ? " rad/s" : " cm/s");
+      << prediction.stopSpeed << " cm/s";
   }
   t << ": "
     << (prediction.nearBoundary ? "near the boundary (not scored)"

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -118,6 +119,9 @@ struct GraspPrediction {
   /// within its elastic lag, starting; and stopping, the fastest it stops within that lag
   double catchUpSpeed = 0.0;
   double stopSpeed = 0.0;
+  /// A velocity step of a turn: where the object comes to rest after the stop, rad behind the
+  /// grip (negative: ahead; TurnStepLag); the step speeds above are then unused
+  double turnStepRest = 0.0;
   /// Fingers that slide during the motion: the largest margin of the configurations it passes
   /// through (`margin` is the smallest); the scene is scored only when they agree
   double marginMax = 0.0;
@@ -194,10 +198,39 @@ Vec2 GripSlideFriction(const ObjectSpec& object, const PhysicsParams& physics, d
 /// the surface it pulls until its friction, `friction` times its normal force, slides; across it
 /// presses by its target's depth. A body that slides follows its target along its face. At
 /// turn 0 it is the torque the grip holds at rest (the sideways pulls of bodies on a round
-/// slice, whose targets lie off their normals).
+/// slice, whose targets lie off their normals). With `peak`, the fingertip turned out to `peak`
+/// first and then back to `turn`: a body that slid on the way out springs back from its limit.
 double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                       const Vec2& center, double radius, const Vec2& inward, double turn,
-                      double friction, std::span<const HiddenDisc> hidden = {});
+                      double friction, std::span<const HiddenDisc> hidden = {},
+                      std::optional<double> peak = std::nullopt);
+
+/// Where an object is left by a velocity step of a turn (issue 42, seventeenth revision): the
+/// grip starts turning at `rate` (rad/s) within a frame while the object rests, turns on until
+/// the object slides with it, and stops within a frame. `loading(lag)` is the grip's torque
+/// along the turn, dyn cm, with the object lagging by `lag` (rad) from rest; `unloading(peak,
+/// lag)` the torque once the lag has come back to `lag` from `peak`. Table friction holds the
+/// object with up to `staticTorque` at rest and `kineticTorque` while it turns; `inertia` is its
+/// moment of inertia, g cm^2. Phases (docs/physics.md, "A turn step, seventeenth revision"):
+/// - at rest until loading(L0) = staticTorque;
+/// - it then catches up: the lag grows while the grip's excess over kinetic friction takes the
+///   kinetic energy 1/2 I rate^2 it has relative to the grip, to the peak Lm;
+/// - it slides on with the grip where unloading(Lm, Ls) = kineticTorque;
+/// - at the stop it runs on from Ls at `rate` until kinetic friction less the grip's torque has
+///   taken 1/2 I rate^2, and rests there.
+/// Returns the lag it rests at (rad; negative: it leads the grip), or +infinity when the grip
+/// slides round it (its torque never reaches static friction) or it never catches up within
+/// `maxLag`.
+struct TurnStepLags {
+  double breakLoose = 0.0;  ///< L0, rad
+  double peak = 0.0;        ///< Lm, rad
+  double sliding = 0.0;     ///< Ls, rad
+  double rest = 0.0;        ///< where it rests after the stop, rad
+};
+TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
+                         const std::function<double(double, double)>& unloading,
+                         double staticTorque, double kineticTorque, double inertia, double rate,
+                         double maxLag);
 
 /// The rule, evaluated at the parameters' grip stiffness, depth limit, particle radius and the
 /// contour spacing.
