@@ -18,6 +18,10 @@ namespace pg {
 
 namespace {
 
+// the settling's time constant where the frame reads darker than the background, and the pace at
+// which its floor follows the frames' spatial estimates (SettleDark, LowerSettleFloor)
+constexpr double kDarkTime = 0.25;  // s
+
 std::string SizeText(cv::Size s) {
   return std::to_string(s.width) + "x" + std::to_string(s.height);
 }
@@ -290,6 +294,7 @@ void Sensor::ForgetLearned() {
   m_reference8.release();
   m_warmup = false;
   m_spatial.release();
+  m_settleFloor.release();
   m_lowMean.release();
   m_lowest.release();
   m_stillState.release();
@@ -844,6 +849,7 @@ double Sensor::LearnBackground(double time) {
     if (WarmingUp()) return dt;
     FinishWarmup();
   }
+  LowerSettleFloor(time);
   if (m_params.backgroundLearning <= 0.0) {
     // learning is off: when it comes back on, the time it was off is not learned
     m_bandsStarted = false;
@@ -1304,22 +1310,42 @@ void Sensor::TrackStillRegions(double time, double dt) {
   }
 }
 
+void Sensor::LowerSettleFloor(double time) {
+  // The settling's floor (SettleDark) starts at the first frame's spatial estimate. A hand that
+  // hovered over the table then raised it by its glow where the glow is wider than the estimate's
+  // opening (a DI table's hand lit from below, t2.avi's: 5 grey over the table there), and the
+  // table that shows when the hand moves off could not pull the background below it. Every
+  // kDarkTime of the settling the floor comes down to the spatial estimate of that frame where it
+  // is lower: as the hands move, the estimates see the table they uncover. A shadow narrower than
+  // the estimate's closing (3 cm) is not in it; a wider one lowers it, which the high-pass's
+  // width takes away when it goes (FirstFrames.EmptyTableShadowsAndDarkSpotsLeaveNoContact).
+  if (m_spatial.empty() || !(m_params.backgroundSettle > 0.0) || !m_lowest.empty()) return;
+  if (time - m_startTime > m_params.backgroundWarmup + m_params.backgroundSettle) return;
+  if (m_settleFloor.empty()) {
+    m_settleFloor = m_spatial.clone();
+    m_floorTime = time;
+  } else if (time - m_floorTime >= kDarkTime) {
+    m_floorTime = time;
+    cv::min(m_settleFloor, EstimateBackground(m_grey, PixelsPerCm()), m_settleFloor);
+  }
+}
+
 void Sensor::SettleDark(int r0, int r1, double bandDt) {
   // For background_settle seconds after the warm-up: a hand that lay still through the warm-up
   // is in the background, and where it has moved away the frame reads darker than the background
   // by its contrast. There the background comes down fast (time constant kDarkTime), never below
-  // the first frame's spatial estimate less 2 noise deviations (FinishWarmup): a hovering hand's
-  // shadow, darker than the table, is not learned below the table. Pixels darker by more than 3
+  // the settling's floor less 2 noise deviations: the first frame's spatial estimate, lowered by
+  // those of the settling's frames (LowerSettleFloor). A hovering hand's shadow, darker than the
+  // table, is not learned below the table. Pixels darker by more than 3
   // deviations only: the noise alone does that once in 740 frames, so the background is not
   // pulled down by it.
   if (m_spatial.empty() || !(m_params.backgroundSettle > 0.0) || !m_lowest.empty()) return;
   if (m_lastTime - m_startTime > m_params.backgroundWarmup + m_params.backgroundSettle) return;
-  constexpr double kDarkTime = 0.25;  // s
   const float noise = static_cast<float>(NoiseDeviation());
   const float alpha = static_cast<float>(1.0 - std::exp(-bandDt / kDarkTime));
   for (int y = r0; y < r1; ++y) {
     const uint8_t* g = m_grey.ptr<uint8_t>(y);
-    const uint8_t* sp = m_spatial.ptr<uint8_t>(y);
+    const uint8_t* sp = (m_settleFloor.empty() ? m_spatial : m_settleFloor).ptr<uint8_t>(y);
     float* b = m_learned.ptr<float>(y);
     for (int x = 0; x < m_grey.cols; ++x) {
       if (g[x] + 3.0f * noise >= b[x]) continue;

@@ -133,6 +133,7 @@ class Sensor {
   void FinishWarmup();
   // the first seconds after the warm-up: where the frame is darker than the background (a hand
   // that lay there at the start has moved), the band of rows r0..r1 comes down to it fast
+  void LowerSettleFloor(double time);
   void SettleDark(int r0, int r1, double bandDt);
   // the first seconds after the warm-up: the bright regions it took in, each brought out whole
   // once part of it shows the table, and taken in again once still (background_still)
@@ -152,6 +153,8 @@ class Sensor {
   // warm-up the frames' running mean (time constant a third of the warm-up) and its per-pixel
   // lowest (CV_32F)
   cv::Mat m_spatial;
+  cv::Mat m_settleFloor;     // SettleDark's floor before its noise allowance (LowerSettleFloor)
+  double m_floorTime = 0.0;  // when it was last lowered
   cv::Mat m_lowMean, m_lowest;
   double m_startTime = 0.0;  // s, the time of the frame the background was estimated from
   cv::Mat m_learned;         // CV_32F, the background being learned
