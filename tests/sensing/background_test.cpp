@@ -218,6 +218,16 @@ TEST(FirstFrames, AStillHandIsFoundUntilBackgroundStill) {
   }
 }
 
+// A dim table: camera noise 0.7 grey, touches `contrast` grey above the table, no halo.
+SyntheticCameraParams DimTable(int seed, double contrast) {
+  SyntheticCameraParams p;
+  p.seed = seed;
+  p.noise = 0.7;
+  p.contactLevel = p.background + contrast;
+  p.haloLevel = 0.0;
+  return p;
+}
+
 // A dim table like t2.avi's (camera noise 0.7 grey), clear for its first second, then one
 // fingertip lands with a contrast of 8 grey: found within 0.2 s of landing, and every frame after;
 // no contact before it. The level then: 5 noise deviations (sigma reads about 0.86, see
@@ -225,12 +235,7 @@ TEST(FirstFrames, AStillHandIsFoundUntilBackgroundStill) {
 // the touch's high-passed peak of 8 x 0.84 = 6.7 grey; 0.3 of that is 2 grey, under the floor.
 TEST(FirstFrames, FirstTouchOnADimTableIsFoundAtOnce) {
   for (int seed = 1; seed <= kLastSeed; ++seed) {
-    SyntheticCameraParams p;
-    p.seed = seed;
-    p.noise = 0.7;
-    p.contactLevel = p.background + 8.0;
-    p.haloLevel = 0.0;
-    Start s(p);
+    Start s(DimTable(seed, 8.0));
     const ContactShape tip = Shape(ShapeKind::kCircle, {30.0, 22.0});
     int first = -1, missedAfter = 0, phantoms = 0;
     for (int i = 0; i < 180; ++i) {
@@ -293,12 +298,7 @@ cv::Mat DiscMask(const Start& s, Vec2 at, double diameter) {
 // elsewhere (the glow's high-passed rest is well under the level).
 TEST(FirstFrames, AHoveringHandsGlowAtTheStartIsLeftWhereTheTableShowsWhileItSettles) {
   for (int seed = 1; seed <= kLastSeed; ++seed) {
-    SyntheticCameraParams p;
-    p.seed = seed;
-    p.noise = 0.7;
-    p.contactLevel = p.background + 12.0;
-    p.haloLevel = 0.0;
-    Start s(p);
+    Start s(DimTable(seed, 12.0));
     const Vec2 at(30.0, 22.0);
     cv::Mat glow(s.camera.params().height, s.camera.params().width, CV_32F);
     for (int v = 0; v < glow.rows; ++v) {
