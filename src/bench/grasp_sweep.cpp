@@ -484,16 +484,21 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
   return torque / kSamplePhases;
 }
 
-TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
-                         const std::function<double(double, double)>& unloading,
-                         double staticTorque, double kineticTorque, double inertia, double rate,
-                         double maxLag) {
+namespace {
+
+// Where a walk along a torque curve, f(from + direction t) for t = 0, h, 2h, ... up to `steps`
+// steps of h = 0.25 degrees, first reaches `threshold` (sign (f - threshold) >= 0), and then where
+// sign (f - kinetic), integrated on from there, reaches `energy`: distances t along the walk,
+// infinity for none (the curve linear between its points, each crossing solved on its segment).
+struct CurveWalk {
+  double cross = kInfinity;
+  double end = kInfinity;
+};
+CurveWalk WalkCurve(const std::function<double(double)>& f, double from, double direction,
+                    int steps, double sign, double threshold, double kinetic, double energy) {
   constexpr double kStep = DegToRad(0.25);
-  TurnStepLags lags;
-  lags.breakLoose = lags.peak = lags.sliding = lags.rest = kInfinity;
-  const double energy = 0.5 * inertia * rate * rate;
   // where an integral of g over [a, b] (g linear between ga and gb) reaches `need`, as a
-  // fraction of the way from a to b (the area is a quadratic in it)
+  // distance from a (the area is a quadratic in it)
   auto reach = [](double ga, double gb, double need, double width) {
     const double slope = (gb - ga) / width;
     if (std::abs(slope) * width < 1e-12 * (std::abs(ga) + std::abs(gb)) || slope == 0.0)
@@ -501,66 +506,62 @@ TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
     const double disc = ga * ga + 2.0 * slope * need;
     return disc <= 0.0 ? width : (std::sqrt(disc) - ga) / slope;
   };
-  // at rest until the grip's torque reaches static friction; then it catches up, the grip's
-  // excess over kinetic friction taking the energy it has relative to the grip
-  const int steps = static_cast<int>(std::ceil(maxLag / kStep));
-  double x = 0.0, g = loading(0.0);
-  bool loose = g >= staticTorque;
-  if (loose) lags.breakLoose = 0.0;
+  CurveWalk walk;
+  double t = 0.0, g = sign * (f(from) - kinetic);
+  const double over = sign * (threshold - kinetic);  // g where the curve meets the threshold
+  if (g >= over) walk.cross = 0.0;
   double taken = 0.0;
-  for (int j = 1; j <= steps && lags.peak == kInfinity; ++j) {
-    const double xNext = j * kStep, gNext = loading(xNext);
-    if (!loose) {
-      if (gNext >= staticTorque) {
-        loose = true;
-        lags.breakLoose = xNext - kStep * (gNext - staticTorque) / (gNext - g);
-        x = lags.breakLoose;
-        g = staticTorque;
-      } else {
-        x = xNext;
+  for (int j = 1; j <= steps; ++j) {
+    const double tNext = j * kStep, gNext = sign * (f(from + direction * tNext) - kinetic);
+    if (walk.cross == kInfinity) {
+      if (gNext < over) {
+        t = tNext;
         g = gNext;
         continue;
       }
+      walk.cross = tNext - kStep * (gNext - over) / (gNext - g);
+      t = walk.cross;
+      g = over;
     }
-    const double width = xNext - x;
-    const double area = 0.5 * (g - kineticTorque + gNext - kineticTorque) * width;
+    const double width = tNext - t;
+    const double area = 0.5 * (g + gNext) * width;
     if (width > 0.0 && taken + area >= energy) {
-      lags.peak = x + reach(g - kineticTorque, gNext - kineticTorque, energy - taken, width);
+      walk.end = t + reach(g, gNext, energy - taken, width);
+      return walk;
     }
     taken += area;
-    x = xNext;
+    t = tNext;
     g = gNext;
   }
+  return walk;
+}
+
+}  // namespace
+
+TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
+                         const std::function<double(double, double)>& unloading,
+                         double staticTorque, double kineticTorque, double inertia, double rate,
+                         double maxLag) {
+  const int steps = static_cast<int>(std::ceil(maxLag / DegToRad(0.25)));
+  const double energy = 0.5 * inertia * rate * rate;
+  TurnStepLags lags;
+  // at rest until the grip's torque reaches static friction; then it catches up, the grip's
+  // excess over kinetic friction taking the energy it has relative to the grip
+  const CurveWalk out =
+      WalkCurve(loading, 0.0, 1.0, steps, 1.0, staticTorque, kineticTorque, energy);
+  lags.breakLoose = out.cross;
+  lags.peak = out.end;
+  lags.sliding = lags.rest = kInfinity;
   if (lags.peak == kInfinity) return lags;
-  // back from the peak to where it slides on with the grip, then on through the stop until the
-  // table's kinetic friction less the grip's torque has taken the same energy again
+  // back from the peak to where it slides on with the grip (the torque down to kinetic
+  // friction), then on through the stop until the table's kinetic friction less the grip's
+  // torque has taken the same energy again
   const double peak = lags.peak;
-  double y = peak, u = unloading(peak, peak);
-  if (u <= kineticTorque) lags.sliding = peak;
-  taken = 0.0;
-  for (int j = 1; j <= 4 * steps; ++j) {
-    const double yNext = peak - j * kStep, uNext = unloading(peak, yNext);
-    if (lags.sliding == kInfinity) {
-      if (uNext > kineticTorque) {
-        y = yNext;
-        u = uNext;
-        continue;
-      }
-      lags.sliding = y - kStep * (u - kineticTorque) / (u - uNext);
-      y = lags.sliding;
-      u = kineticTorque;
-    }
-    const double width = y - yNext;
-    const double area = 0.5 * (kineticTorque - u + kineticTorque - uNext) * width;
-    if (width > 0.0 && taken + area >= energy) {
-      lags.rest = y - reach(kineticTorque - u, kineticTorque - uNext, energy - taken, width);
-      return lags;
-    }
-    taken += area;
-    y = yNext;
-    u = uNext;
-  }
-  lags.rest = -kInfinity;  // it runs on past the grip as far as the scan looks
+  const CurveWalk back = WalkCurve([&](double lag) { return unloading(peak, lag); }, peak, -1.0,
+                                   4 * steps, -1.0, kineticTorque, kineticTorque, energy);
+  if (back.cross != kInfinity) lags.sliding = peak - back.cross;
+  // past the scan, it runs on past the grip as far as it looks
+  lags.rest = back.end == kInfinity ? -kInfinity : peak - back.end;
   return lags;
 }
 

@@ -211,7 +211,8 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
 /// along the turn, dyn cm, with the object lagging by `lag` (rad) from rest; `unloading(peak,
 /// lag)` the torque once the lag has come back to `lag` from `peak`. Table friction holds the
 /// object with up to `staticTorque` at rest and `kineticTorque` while it turns; `inertia` is its
-/// moment of inertia, g cm^2. Phases (docs/physics.md, "A turn step, seventeenth revision"):
+/// moment of inertia, g cm^2. Phases (docs/physics.md, "A turn step, followed through its
+/// phases"):
 /// - at rest until loading(L0) = staticTorque;
 /// - it then catches up: the lag grows while the grip's excess over kinetic friction takes the
 ///   kinetic energy 1/2 I rate^2 it has relative to the grip, to the peak Lm;
