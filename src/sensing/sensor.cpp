@@ -1310,6 +1310,13 @@ void Sensor::TrackStillRegions(double time, double dt) {
   }
 }
 
+bool Sensor::Settling() const {
+  // an estimated background, past its warm-up and within background_settle after it (m_lastTime
+  // is this frame's)
+  return !m_spatial.empty() && m_params.backgroundSettle > 0.0 && m_lowest.empty() &&
+         m_lastTime - m_startTime <= m_params.backgroundWarmup + m_params.backgroundSettle;
+}
+
 void Sensor::LowerSettleFloor(double time) {
   // The settling's floor (SettleDark) starts at the first frame's spatial estimate. A hand that
   // hovered over the table then raised it by its glow where the glow is wider than the estimate's
@@ -1319,8 +1326,7 @@ void Sensor::LowerSettleFloor(double time) {
   // is lower: as the hands move, the estimates see the table they uncover. A shadow narrower than
   // the estimate's closing (3 cm) is not in it; a wider one lowers it, which the high-pass's
   // width takes away when it goes (FirstFrames.EmptyTableShadowsAndDarkSpotsLeaveNoContact).
-  if (m_spatial.empty() || !(m_params.backgroundSettle > 0.0) || !m_lowest.empty()) return;
-  if (time - m_startTime > m_params.backgroundWarmup + m_params.backgroundSettle) return;
+  if (!Settling()) return;
   if (m_settleFloor.empty()) {
     m_settleFloor = m_spatial.clone();
     m_floorTime = time;
@@ -1339,13 +1345,12 @@ void Sensor::SettleDark(int r0, int r1, double bandDt) {
   // table, is not learned below the table. Pixels darker by more than 3
   // deviations only: the noise alone does that once in 740 frames, so the background is not
   // pulled down by it.
-  if (m_spatial.empty() || !(m_params.backgroundSettle > 0.0) || !m_lowest.empty()) return;
-  if (m_lastTime - m_startTime > m_params.backgroundWarmup + m_params.backgroundSettle) return;
+  if (!Settling()) return;
   const float noise = static_cast<float>(NoiseDeviation());
   const float alpha = static_cast<float>(1.0 - std::exp(-bandDt / kDarkTime));
   for (int y = r0; y < r1; ++y) {
     const uint8_t* g = m_grey.ptr<uint8_t>(y);
-    const uint8_t* sp = (m_settleFloor.empty() ? m_spatial : m_settleFloor).ptr<uint8_t>(y);
+    const uint8_t* sp = m_settleFloor.ptr<uint8_t>(y);  // set by LowerSettleFloor first
     float* b = m_learned.ptr<float>(y);
     for (int x = 0; x < m_grey.cols; ++x) {
       if (g[x] + 3.0f * noise >= b[x]) continue;

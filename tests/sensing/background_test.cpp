@@ -271,15 +271,21 @@ cv::Mat Shadowed(const cv::Mat& frame, const cv::Mat& mask, double depth) {
   f.convertTo(out, CV_8UC1);
   return out;
 }
-cv::Mat DiscMask(const Start& s, Vec2 at, double diameter) {
+// a mask over the camera image, `profile` of each pixel's table distance (cm) from `at`
+template <typename Profile>
+cv::Mat MaskAround(const Start& s, Vec2 at, Profile profile) {
   cv::Mat mask(s.camera.params().height, s.camera.params().width, CV_32F);
   for (int v = 0; v < mask.rows; ++v) {
     for (int u = 0; u < mask.cols; ++u) {
-      const double d = (s.camera.model().CameraToTable(Vec2(u, v)) - at).norm() - 0.5 * diameter;
-      mask.at<float>(v, u) = static_cast<float>(0.5 * (1.0 - std::tanh(d / 0.3)));
+      const double d = (s.camera.model().CameraToTable(Vec2(u, v)) - at).norm();
+      mask.at<float>(v, u) = static_cast<float>(profile(d));
     }
   }
   return mask;
+}
+cv::Mat DiscMask(const Start& s, Vec2 at, double diameter) {
+  return MaskAround(s, at,
+                    [&](double d) { return 0.5 * (1.0 - std::tanh((d - 0.5 * diameter) / 0.3)); });
 }
 
 // A hand hovering over a dim table from the first frame (noise 0.7 grey, as in
@@ -300,13 +306,8 @@ TEST(FirstFrames, AHoveringHandsGlowAtTheStartIsLeftWhereTheTableShowsWhileItSet
   for (int seed = 1; seed <= kLastSeed; ++seed) {
     Start s(DimTable(seed, 12.0));
     const Vec2 at(30.0, 22.0);
-    cv::Mat glow(s.camera.params().height, s.camera.params().width, CV_32F);
-    for (int v = 0; v < glow.rows; ++v) {
-      for (int u = 0; u < glow.cols; ++u) {
-        const double d = (s.camera.model().CameraToTable(Vec2(u, v)) - at).norm();
-        glow.at<float>(v, u) = static_cast<float>(std::exp(-d * d / (2.0 * 8.0 * 8.0)));
-      }
-    }
+    const cv::Mat glow =
+        MaskAround(s, at, [](double d) { return std::exp(-d * d / (2.0 * 8.0 * 8.0)); });
     const ContactShape tip = Shape(ShapeKind::kCircle, at);
     int first = -1, phantoms = 0;
     for (int i = 0; i < 240; ++i) {

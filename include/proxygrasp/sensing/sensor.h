@@ -133,6 +133,7 @@ class Sensor {
   void FinishWarmup();
   // the first seconds after the warm-up: where the frame is darker than the background (a hand
   // that lay there at the start has moved), the band of rows r0..r1 comes down to it fast
+  bool Settling() const;
   void LowerSettleFloor(double time);
   void SettleDark(int r0, int r1, double bandDt);
   // the first seconds after the warm-up: the bright regions it took in, each brought out whole
