@@ -486,17 +486,18 @@ double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, do
 
 namespace {
 
-// Where a walk along a torque curve, f(from + direction t) for t = 0, h, 2h, ... up to `steps`
-// steps of h = 0.25 degrees, first reaches `threshold` (sign (f - threshold) >= 0), and then where
-// sign (f - kinetic), integrated on from there, reaches `energy`: distances t along the walk,
-// infinity for none (the curve linear between its points, each crossing solved on its segment).
+// Where a walk along a curve (a torque by angle, or a force by distance), f(from + direction t)
+// for t = 0, h, 2h, ... up to `steps` steps of h = `step`, first reaches `threshold` (sign (f -
+// threshold) >= 0), and then where sign (f - kinetic), integrated on from there, reaches
+// `energy`: distances t along the walk, infinity for none (the curve linear between its points,
+// each crossing solved on its segment).
 struct CurveWalk {
   double cross = kInfinity;
   double end = kInfinity;
 };
 CurveWalk WalkCurve(const std::function<double(double)>& f, double from, double direction,
-                    int steps, double sign, double threshold, double kinetic, double energy) {
-  constexpr double kStep = DegToRad(0.25);
+                    double kStep, int steps, double sign, double threshold, double kinetic,
+                    double energy) {
   // where an integral of g over [a, b] (g linear between ga and gb) reaches `need`, as a
   // distance from a (the area is a quadratic in it)
   auto reach = [](double ga, double gb, double need, double width) {
@@ -542,13 +543,14 @@ TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
                          const std::function<double(double, double)>& unloading,
                          double staticTorque, double kineticTorque, double inertia, double rate,
                          double maxLag) {
-  const int steps = static_cast<int>(std::ceil(maxLag / DegToRad(0.25)));
+  constexpr double kTurnStep = DegToRad(0.25);
+  const int steps = static_cast<int>(std::ceil(maxLag / kTurnStep));
   const double energy = 0.5 * inertia * rate * rate;
   TurnStepLags lags;
   // at rest until the grip's torque reaches static friction; then it catches up, the grip's
   // excess over kinetic friction taking the energy it has relative to the grip
   const CurveWalk out =
-      WalkCurve(loading, 0.0, 1.0, steps, 1.0, staticTorque, kineticTorque, energy);
+      WalkCurve(loading, 0.0, 1.0, kTurnStep, steps, 1.0, staticTorque, kineticTorque, energy);
   lags.breakLoose = out.cross;
   lags.peak = out.end;
   lags.sliding = lags.rest = kInfinity;
@@ -557,10 +559,70 @@ TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
   // friction), then on through the stop until the table's kinetic friction less the grip's
   // torque has taken the same energy again
   const double peak = lags.peak;
-  const CurveWalk back = WalkCurve([&](double lag) { return unloading(peak, lag); }, peak, -1.0,
-                                   4 * steps, -1.0, kineticTorque, kineticTorque, energy);
+  const CurveWalk back =
+      WalkCurve([&](double lag) { return unloading(peak, lag); }, peak, -1.0, kTurnStep, 4 * steps,
+                -1.0, kineticTorque, kineticTorque, energy);
   if (back.cross != kInfinity) lags.sliding = peak - back.cross;
   // past the scan, it runs on past the grip as far as it looks
+  lags.rest = back.end == kInfinity ? -kInfinity : peak - back.end;
+  return lags;
+}
+
+CarryStepLags CarryStepLag(const std::function<double(double)>& loose, double looseReach,
+                           const std::function<double(double)>& loading,
+                           const std::function<double(double, double)>& unloading,
+                           double staticForce, double kineticForce, double mass, double speed,
+                           double across, double maxLag) {
+  constexpr double kStep = 0.01;  // cm between the curves' points
+  const int steps = static_cast<int>(std::ceil(maxLag / kStep));
+  CarryStepLags lags;
+  lags.breakLoose = lags.peak = lags.sliding = lags.rest = kInfinity;
+  const double vs = speed * across;
+  const double va = speed * std::sqrt(std::max(0.0, 1.0 - across * across));
+  const double energy = 0.5 * mass * vs * vs;
+  // at rest until the grip's force reaches static friction, the grip moving on along the motion
+  const CurveWalk rest =
+      WalkCurve(loose, 0.0, 1.0, kStep, static_cast<int>(std::floor(looseReach / kStep)), 1.0,
+                staticForce, 0.0, 0.0);
+  if (rest.cross == kInfinity) return lags;
+  lags.breakLoose = rest.cross;
+  // It catches up across: relative to the grip it comes in at vs - w (w its own speed across,
+  // from the energy e = 1/2 M (vs - w)^2 left), the grip's force taking that energy and the
+  // table's kinetic friction along the object's velocity (va, w) giving some back (midpoint
+  // steps on the curve's points, the first from where it broke loose, the peak solved on its
+  // step).
+  auto table = [&](double e) {
+    const double w = std::max(0.0, vs - std::sqrt(2.0 * std::max(e, 0.0) / mass));
+    const double v = std::hypot(va, w);
+    return v > 0.0 ? kineticForce * w / v : 0.0;
+  };
+  const double x0 = lags.breakLoose * across;
+  const int first = static_cast<int>(std::floor(x0 / kStep));
+  double x = x0, e = energy;
+  double h = loading(first * kStep) +
+             (x0 / kStep - first) * (loading((first + 1) * kStep) - loading(first * kStep));
+  if (e <= 0.0) lags.peak = x;
+  for (int j = first + 1; j <= first + steps && lags.peak == kInfinity; ++j) {
+    const double xNext = j * kStep, width = xNext - x, hNext = loading(xNext);
+    const double eMid = e - 0.5 * width * (h - table(e));
+    const double eNext = e - width * (0.5 * (h + hNext) - table(eMid));
+    if (eNext <= 0.0) lags.peak = x + width * e / (e - eNext);
+    x = xNext;
+    h = hNext;
+    e = eNext;
+  }
+  if (lags.peak == kInfinity) return lags;
+  // Back from the peak to where it slides on with the grip (at the grip's velocity, the table's
+  // friction along the motion: its part across is mu_k W sin), then on through the stop, where
+  // the axis stops first and the table's whole kinetic friction less the grip's force takes the
+  // energy across again.
+  const double peak = lags.peak;
+  const CurveWalk back =
+      WalkCurve([&](double lag) { return unloading(peak, lag); }, peak, -1.0, kStep, 2 * steps,
+                -1.0, kineticForce * across, kineticForce, energy);
+  if (back.cross == kInfinity) return lags;  // the grip pulls it on faster than friction
+  lags.sliding = peak - back.cross;
+  // past the walk, it runs on past the grip as far as it looks
   lags.rest = back.end == kInfinity ? -kInfinity : peak - back.end;
   return lags;
 }
@@ -568,8 +630,9 @@ TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
 Vec2 GripSlideFriction(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                        const Vec2& restCenter, const Vec2& center, double radius,
                        const Vec2& inward, const Vec2& slide, double friction,
-                       std::span<const HiddenDisc> hidden) {
+                       std::span<const HiddenDisc> hidden, std::optional<Vec2> peakSlide) {
   const CrossSection slice = Slice0(object, physics);
+  const Vec2 top = peakSlide.value_or(slide);
   const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
   const double r = physics.particleRadius;
   Vec2 total = Vec2::Zero();
@@ -589,7 +652,9 @@ Vec2 GripSlideFriction(const ObjectSpec& object, const PhysicsParams& physics, d
     const Vec2 tangent(-body->push.y(), body->push.x());
     const double atRest = friction * k * std::min(body->depth, dMax);
     const double held = std::clamp(k * (rest - body->stop).dot(tangent), -atRest, atRest);
-    total += tangent * std::clamp(held + k * (q - rest + slide).dot(tangent), -limit, limit);
+    // out to the peak, and back from the limit the body slid at there
+    const double pullPeak = std::clamp(held + k * (q - rest + top).dot(tangent), -limit, limit);
+    total += tangent * std::clamp(pullPeak + k * (slide - top).dot(tangent), -limit, limit);
   });
   return total / kSamplePhases;
 }
@@ -1095,6 +1160,46 @@ GraspScene GenerateGraspScene(uint64_t seed, int index, const GraspClasses& clas
 
 namespace {
 
+// The margin of a velocity step followed through its phases (seventeenth revision): how much
+// heavier (or, when it runs on past the grip, lighter) the object could be and still come to rest
+// within `tolerance` of the grip, its mass and with it the table's friction scaled together
+// against the same grip (as the other margins: capacity over a requirement that scales with the
+// mass). `restsAt(factor)` is where it rests behind the grip (negative: ahead) at that factor;
+// `rest` receives it at 1. Factors from 1/4 to 4, each edge halved 10 times.
+double StepMassMargin(const std::function<double(double)>& restsAt, double tolerance,
+                      double* rest) {
+  constexpr double kMostFactor = 4.0;
+  constexpr int kHalvings = 10;
+  auto follows = [&](double factor) { return std::abs(restsAt(factor)) <= tolerance; };
+  // the factor where following turns to not, between one that follows and one that does not
+  // (halving the ratio between them)
+  auto edge = [&](double good, double bad) {
+    for (int i = 0; i < kHalvings; ++i) {
+      const double middle = std::sqrt(good * bad);
+      (follows(middle) ? good : bad) = middle;
+    }
+    return good;
+  };
+  const double lag = restsAt(1.0);
+  *rest = lag;
+  if (std::abs(lag) <= tolerance) {
+    const double heavier = follows(kMostFactor) ? kMostFactor : edge(1.0, kMostFactor);
+    const double lighter =
+        follows(1.0 / kMostFactor) ? 1.0 / kMostFactor : edge(1.0, 1.0 / kMostFactor);
+    return std::min(heavier, 1.0 / lighter);
+  }
+  // it stays behind (or runs on past the grip): the nearest lighter (heavier) factor that
+  // follows, in quarter octaves out to 1/4 (4), then halved to the edge; 0 for none
+  const double side = lag > 0.0 ? -1.0 : 1.0;
+  double bad = 1.0, nearest = 0.0;
+  for (int k = 1; k <= 8 && nearest == 0.0; ++k) {
+    const double factor = std::pow(kMostFactor, side * k / 8.0);
+    if (follows(factor)) nearest = edge(factor, bad);
+    bad = factor;
+  }
+  return nearest == 0.0 ? 0.0 : (lag > 0.0 ? nearest : 1.0 / nearest);
+}
+
 // The rule for the fingers where they are (docs/physics.md, "Grasp sweep"): PredictGrasp takes
 // it over the configurations a slide passes through.
 GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics, double spacing) {
@@ -1265,9 +1370,12 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
                                     (grip0.radius + physics.particleRadius)
                               : 0.0;
       const double keep = std::max(0.0, 1.0 - tilt);
-      double slideMargin =
-          std::min(across > 0 ? muP * std::max(p.normalForce, along) * keep / across : kInfinity,
-                   along > 0 ? push / along : kInfinity);
+      // along the axis the leading side's push; across, the grip's friction (and a round
+      // slice's bounds, below)
+      const double alongMargin = along > 0 ? push / along : kInfinity;
+      const double frictionMargin =
+          across > 0 ? muP * std::max(p.normalForce, along) * keep / across : kInfinity;
+      double roundMargin = kInfinity;
       // The two sides of the grip (those pressing along the lead, and the rest) once the object
       // lags far enough behind the grip along the lead, in `steps` steps of d_max, for their
       // forces to push `along` (the last step when they never do), and by x across it (along w):
@@ -1307,8 +1415,7 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         const SideForces sides = sidesAtBalance(
             [&](size_t i, const Vec2& moved) { return laggedForce(i, shift, moved); }, 64,
             Vec2::Zero(), 0.0);
-        slideMargin =
-            std::min(slideMargin, 2.0 * muP * std::min(sides.lead, sides.trail) * keep / across);
+        roundMargin = 2.0 * muP * std::min(sides.lead, sides.trail) * keep / across;
       }
       // Thirteenth revision (docs/physics.md, "A round slice cradled against a thumb"): with two
       // or more fingertips against a thumb the pair's normals also push across once the object
@@ -1335,8 +1442,12 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
               std::min(stiffness * bodiesAtRest * x, 2.0 * muP * std::min(sides.lead, sides.trail));
           best = std::max(best, sides.across + f);
         }
-        slideMargin = std::min(along > 0 ? push / along : kInfinity, best / across);
+        roundMargin = best / across;
       }
+      // the cradle's bound replaces the friction's (it holds the friction the sides give)
+      const double slideMargin = std::min(
+          {alongMargin, grip0.circle && fingers > 2 && across > 0.0 ? kInfinity : frictionMargin,
+           roundMargin});
       // Breaking loose: the table's static friction gives way to a force of mu_s W in any
       // direction. While the object is stuck the grip moves on along u; it lags l along the axis
       // (the leading side presses deeper) and l tan(angle) across it, where each pressing body
@@ -1420,129 +1531,81 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       const double looseMargin = breakLoose > 0.0 ? looseForce / breakLoose : kInfinity;
       p.margin = std::min(slideMargin, looseMargin);
       if (step) {
-        // The step, opposed: along the axis the leading side's normal forces catch the object
-        // up, across it only the springs up to friction, and each must take its own share of
-        // the kinetic energy, 1/2 M (v cos)^2 and 1/2 M (v sin)^2, against its share of kinetic
-        // friction, mu_k W cos and mu_k W sin (as for sliding): a push along the axis does not
-        // give the object speed across it. The object breaks loose (the grip's force reaching
-        // mu_s W in any direction, as above) at a lag L0 along u, L0 cos along the axis and L0
-        // sin across; the lag the grip gives back is d_max along the axis and across the
-        // springs' stretch plus the slip allowed for breaking loose.
+        // The step, opposed. Along the axis the leading side's normal forces catch the object
+        // up, and stop it, within d_max: each must take the kinetic energy along the axis,
+        // 1/2 M (v cos)^2, the table's kinetic friction against the catch-up in full (while the
+        // object's speed across is still about 0) and helping the stop by its share cos.
+        // Eighteenth revision: across, where the object comes to rest after the stop (below).
         const double elastic = laggedGrip(lead, 0.0, 0.0).elastic;
-        const double acrossLimit = elastic + kBreakLooseSlip;
-        double lagLimit = cosE > 1e-9 ? physics.gripMaxDepth / cosE : kInfinity;
-        if (sinE > 1e-9) lagLimit = std::min(lagLimit, acrossLimit / sinE);
-        double looseLag = kInfinity;
-        double mostLoose = 0.0;  // the most force the grip reaches while the object rests
-        for (int j = 0; j <= kStepLags; ++j) {
-          const double lag = lagLimit * j / kStepLags;
-          const Lagged r = laggedGrip(lead, lag * cosE, lag * sinE);
-          mostLoose = std::max(mostLoose, looseMagnitude(r));
-          if (looseMagnitude(r) >= breakLoose) {
-            looseLag = lag;
-            break;
-          }
-        }
         const double kinetic = o.tableKinetic * weight;
-        // Eleventh revision: the table's kinetic friction acts along the object's velocity, not
-        // split along u. Along the axis the springs are stiff (the normals of every pressing
-        // body): that part of a step is caught up, or stopped, within milliseconds, while the
-        // friction across catches up over tenths of a second. So while the object is caught up
-        // across, it moves at v cos(phi) along the axis and w across (0 <= w < v sin(phi)), and
-        // the table resists across by mu_k W w / sqrt((v cos)^2 + w^2) only: less than
-        // mu_k W sin(phi) until it has caught up. Along the axis, while w is still about 0, the
-        // table's friction is all against the axial catch-up: mu_k W, not mu_k W cos(phi).
-        // Stopping, the axial motion stops first and the friction then acts across in full.
-        // (Seed 214 scene 312: a 77 g box carried at 8.6 cm/s, 75 degrees off its grip's axis,
-        // reached 8.1 cm/s across within 0.2 s on a grip friction of mu_p N = 37,900 dyn; split
-        // along u the table would have left it 850 dyn for that.)
-        // Across, the normal forces hold or push as well. Up to the springs' stretch e the
-        // bodies stick to the object and move with it: their normals do not turn. Beyond it they
-        // slide over its surface and stay where the grip holds them, and the object, x across,
-        // has moved x - e past them: each fingertip presses the object there as it would a
-        // fresh one (`force`). On a flat face nothing turns; two fingertips pinching a round
-        // slice press through its centre, which has moved off their line, and push it on by about
-        // N (x - e) / rho (the seventh revision's tilt); a thumb against two fingertips cradles it,
-        // the one it moved towards pressing deeper.
-        // `back`: where the grip is from the object (acrossDir catching up, -acrossDir stopping)
-        auto acrossHold = [&](const Vec2& dir, const Vec2& back, double x) {
-          const Lagged r = laggedGrip(dir, 0.0, x, back);
-          const double slid = std::max(0.0, x - r.elastic);
+        constexpr double kMostAcross = 3.0;  // cm, as far across as the object is followed
+        double looseReach = cosE > 1e-9 ? physics.gripMaxDepth / cosE : kInfinity;
+        if (sinE > 1e-9) looseReach = std::min(looseReach, kMostAcross / sinE);
+        // The grip's force across with the object lagging x, once its bodies have slid `slid`
+        // across it, from a lag of `peak` (x itself on the way out). Up to the springs'
+        // stretch e the bodies stick to the object and move with it. Beyond it they slide over
+        // its surface and stay where the grip holds them, and the object has moved x - e past
+        // them: each fingertip presses it there as it would a fresh one (`force`), and each
+        // body's friction limit is set by its depth there (a fingertip slid past a face's end
+        // holds nothing). On a flat face the normals do not turn; two fingertips pinching a
+        // round slice press through its centre, which has moved off their line, and push it on
+        // (the seventh revision's tilt); a thumb against two fingertips cradles it. On the way
+        // back from a peak each body springs back from the pull it had there, and the bodies
+        // slide back only once the object has come back twice the stretch: they lie between
+        // x - e and x + e of its lag.
+        auto acrossForce = [&](double slid, double x, double peak) {
           Vec2 normals = Vec2::Zero();
-          for (size_t i = 0; i < fingers; ++i) normals += force(i, shift - back * slid);
-          return r.friction + normals.dot(back);
-        };
-        auto acrossCatchUp = [&](const Vec2& dir, double from) {
-          // the fastest step whose across part the springs catch within acrossLimit
-          const double x0 = from * sinE;
-          if (x0 >= acrossLimit) return 0.0;
-          std::vector<double> held(kStepLags + 1);
-          double work = 0.0, most = 0.0;
-          for (int j = 0; j <= kStepLags; ++j) {
-            held[static_cast<size_t>(j)] =
-                acrossHold(dir, acrossDir, x0 + (acrossLimit - x0) * j / kStepLags);
-            if (j > 0)
-              work += 0.5 * (held[static_cast<size_t>(j - 1)] + held[static_cast<size_t>(j)]) *
-                      (acrossLimit - x0) / kStepLags;
-            most = std::max(most, work);
+          double friction = 0.0;
+          for (size_t i = 0; i < fingers; ++i) {
+            const GraspFinger& f = s.fingers[i];
+            const Vec2 at = f.pos - shift + acrossDir * slid;
+            normals += force(i, shift - acrossDir * slid);
+            friction += GripSlideFriction(o, physics, spacing, f.pos - shift, at, f.radius,
+                                          f.inward, acrossDir * (x - slid), muP, hidden[i],
+                                          Vec2(acrossDir * (peak - slid)))
+                            .dot(acrossDir);
           }
-          const double dx = (acrossLimit - x0) / kStepLags;
-          // In the grip's frame the object comes in across at v sin - w with kinetic energy E;
-          // the springs take dE/dx = H(x) - friction(w) of it per cm it lags further.
-          auto caught = [&](double v) {
-            const double vs = v * sinE, va = v * cosE;
-            double e = 0.5 * mass.mass * vs * vs;
-            auto loss = [&](double h, double energy) {
-              const double w =
-                  std::max(0.0, vs - std::sqrt(2.0 * std::max(energy, 0.0) / mass.mass));
-              const double speed = std::hypot(va, w);
-              return h - (speed > 0.0 ? kinetic * w / speed : 0.0);
-            };
-            for (int j = 0; j < kStepLags; ++j) {
-              const double h0 = held[static_cast<size_t>(j)], h1 = held[static_cast<size_t>(j + 1)];
-              const double k1 = loss(h0, e);
-              e -= dx * loss(0.5 * (h0 + h1), e - 0.5 * dx * k1);
-              if (e <= 0.0) return true;
-            }
-            return false;
-          };
-          // without the table's friction the springs' work W catches at most sqrt(2 W / M)
-          double lo = 0.0, hi = std::sqrt(2.0 * most / mass.mass) / sinE;
-          if (!(hi > 0.0)) return 0.0;
-          if (!caught(hi * 1e-6)) return 0.0;
-          for (int i = 0; i < 40; ++i) {
-            const double mid = 0.5 * (lo + hi);
-            (caught(mid) ? lo : hi) = mid;
-          }
-          return lo;
+          return friction + normals.dot(acrossDir);
         };
-        auto speedFor = [&](const Vec2& dir, double from, double sign) {
-          // the fastest step each direction catches (or stops, sign +1: friction helps)
-          const double axialResist = sign < 0.0 ? kinetic : -kinetic * cosE;
+        std::unordered_map<double, double> loosened, loaded;
+        auto loose = [&](double l) {
+          auto [it, fresh] = loosened.try_emplace(l, 0.0);
+          if (fresh) it->second = looseMagnitude(laggedGrip(lead, l * cosE, l * sinE));
+          return it->second;
+        };
+        auto loading = [&](double x) {
+          auto [it, fresh] = loaded.try_emplace(x, 0.0);
+          if (fresh) it->second = acrossForce(std::max(0.0, x - elastic), x, x);
+          return it->second;
+        };
+        auto unloading = [&](double peak, double x) {
+          return acrossForce(std::min(std::max(0.0, peak - elastic), x + elastic), x, peak);
+        };
+        auto lagsAt = [&](double factor) {
+          return CarryStepLag(loose, looseReach, loading, unloading, factor * breakLoose,
+                              factor * kinetic, factor * mass.mass, s.speed, sinE, kMostAcross);
+        };
+        // the axis: from where the object breaks loose (catching up) and from rest (stopping)
+        auto axialSpeed = [&](const Vec2& dir, double from, double resist) {
+          if (cosE <= 1e-9) return kInfinity;
           const double axial = energyFrom([&](double l) { return laggedGrip(dir, l, 0.0).axial; },
-                                          from * cosE, physics.gripMaxDepth, axialResist);
-          const double vAxial = cosE > 1e-9 ? std::sqrt(2.0 * axial / mass.mass) / cosE : kInfinity;
-          if (sinE <= 1e-9) return vAxial;
-          double vAcross = 0.0;
-          if (sign < 0.0) {
-            vAcross = acrossCatchUp(dir, from);
-          } else {
-            const double acrossEnergy =
-                energyFrom([&](double x) { return acrossHold(dir, -acrossDir, x); }, from * sinE,
-                           acrossLimit, -kinetic);
-            vAcross = std::sqrt(2.0 * acrossEnergy / mass.mass) / sinE;
-          }
-          return std::min(vAxial, vAcross);
+                                          from * cosE, physics.gripMaxDepth, resist);
+          return std::sqrt(2.0 * axial / mass.mass) / cosE;
         };
-        p.catchUpSpeed = std::isfinite(looseLag) ? speedFor(lead, looseLag, -1.0) : 0.0;
-        p.stopSpeed = speedFor(-lead, 0.0, 1.0);
-        // Tenth revision: a grip that never breaks the object loose within the lags searched has
-        // no catch-up to measure; its margin is how near it came, the most force it reaches over
-        // mu_s W (below 1), not 0. (A grip 2% short of mu_s W was called as far from holding as
-        // one that presses nothing.)
+        const double looseLag = lagsAt(1.0).breakLoose;
+        p.catchUpSpeed = axialSpeed(lead, std::isfinite(looseLag) ? looseLag : 0.0, kinetic);
+        p.stopSpeed = axialSpeed(-lead, 0.0, -kinetic * cosE);
+        // Eighteenth revision (docs/physics.md, "A carry step, followed through its phases"):
+        // across the axis the object is followed through its phases (CarryStepLag) to where it
+        // rests after the stop. It follows when that is within 1 cm of the grip; the margin is
+        // the factor on its mass (weight, and with it the table's friction) at which it stops
+        // following, as for a turn step. Breaking loose is one of its phases: the static margin
+        // (the grip reaching mu_s W within 0.5 cm of slip) is the bang-bang carry's. The slide
+        // margin stays: the grip's friction must carry the object across at full speed.
+        const double acrossMargin = StepMassMargin(
+            [&](double factor) { return lagsAt(factor).rest; }, kFollowDistance, &p.stepRest);
         p.margin =
-            std::min({p.margin, p.stopSpeed / s.speed,
-                      std::isfinite(looseLag) ? p.catchUpSpeed / s.speed : mostLoose / breakLoose});
+            std::min({slideMargin, p.catchUpSpeed / s.speed, p.stopSpeed / s.speed, acrossMargin});
       }
       p.capacity = p.margin * p.requirement;
     } else {
@@ -1602,8 +1665,6 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       // inertia, and with them the table's friction, scaled together against the same grip (as
       // the margins above, capacity over a requirement that scales with the mass).
       constexpr double kMaxLag = DegToRad(30.0);
-      constexpr double kMostFactor = 4.0;
-      constexpr int kHalvings = 10;
       const double staticTorque = o.tableStatic * weight * rEff;
       const double kineticTorque = o.tableKinetic * weight * rEff;
       std::unordered_map<double, double> loaded;  // the grip's torque out from rest, by lag
@@ -1618,35 +1679,7 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
                            factor * mass.inertia, s.turnRate, kMaxLag)
             .rest;
       };
-      auto follows = [&](double factor) { return std::abs(restsAt(factor)) <= kFollowAngle; };
-      // the factor where following turns to not, between one that follows and one that does
-      // not (halving the ratio between them)
-      auto edge = [&](double good, double bad) {
-        for (int i = 0; i < kHalvings; ++i) {
-          const double middle = std::sqrt(good * bad);
-          (follows(middle) ? good : bad) = middle;
-        }
-        return good;
-      };
-      const double lag = restsAt(1.0);
-      if (std::abs(lag) <= kFollowAngle) {
-        const double heavier = follows(kMostFactor) ? kMostFactor : edge(1.0, kMostFactor);
-        const double lighter =
-            follows(1.0 / kMostFactor) ? 1.0 / kMostFactor : edge(1.0, 1.0 / kMostFactor);
-        p.margin = std::min(heavier, 1.0 / lighter);
-      } else {
-        // it stays behind (or runs on past the grip): the nearest lighter (heavier) factor that
-        // follows, in quarter octaves out to 1/4 (4), then halved to the edge; 0 for none
-        const double side = lag > 0.0 ? -1.0 : 1.0;
-        double bad = 1.0, nearest = 0.0;
-        for (int k = 1; k <= 8 && nearest == 0.0; ++k) {
-          const double factor = std::pow(kMostFactor, side * k / 8.0);
-          if (follows(factor)) nearest = edge(factor, bad);
-          bad = factor;
-        }
-        p.margin = nearest == 0.0 ? 0.0 : (lag > 0.0 ? nearest : 1.0 / nearest);
-      }
-      p.turnStepRest = lag;
+      p.margin = StepMassMargin(restsAt, kFollowAngle, &p.stepRest);
       p.capacity = p.margin * p.requirement;
     }
   } else {
@@ -1794,10 +1827,12 @@ std::string GraspSceneToml(const GraspScene& s, const GraspPrediction& predictio
     t << ", a fingertip slides " << RadToDeg(prediction.slideTurn) << " deg round the slice";
   }
   if (s.profile == GraspProfile::kStep && s.motion == GraspMotion::kTurn) {
-    t << ", step: rests " << RadToDeg(prediction.turnStepRest) << " deg behind the grip";
-  } else if (s.profile == GraspProfile::kStep && s.motion != GraspMotion::kPush) {
-    t << ", step: catches up to " << prediction.catchUpSpeed << ", stops from "
-      << prediction.stopSpeed << " cm/s";
+    t << ", step: rests " << RadToDeg(prediction.stepRest) << " deg behind the grip";
+  } else if (s.profile == GraspProfile::kStep && s.motion == GraspMotion::kCarry) {
+    t << ", step: " << (s.grip == GraspGrip::kOpposed ? "the axis " : "") << "catches up to "
+      << prediction.catchUpSpeed << ", stops from " << prediction.stopSpeed << " cm/s";
+    if (s.grip == GraspGrip::kOpposed)
+      t << ", rests " << prediction.stepRest << " cm across behind the grip";
   }
   t << ": "
     << (prediction.nearBoundary ? "near the boundary (not scored)"

@@ -119,9 +119,11 @@ struct GraspPrediction {
   /// within its elastic lag, starting; and stopping, the fastest it stops within that lag
   double catchUpSpeed = 0.0;
   double stopSpeed = 0.0;
-  /// A velocity step of a turn: where the object comes to rest after the stop, rad behind the
-  /// grip (negative: ahead; TurnStepLag); the step speeds above are then unused
-  double turnStepRest = 0.0;
+  /// A velocity step: where the object comes to rest after the stop behind the grip (negative:
+  /// ahead), rad for a turn (TurnStepLag; the step speeds above are then unused), cm across the
+  /// axis of an opposed grip for a carry (CarryStepLag; the step speeds above are then those of
+  /// the axis alone)
+  double stepRest = 0.0;
   /// Fingers that slide during the motion: the largest margin of the configurations it passes
   /// through (`margin` is the smallest); the scene is scored only when they agree
   double marginMax = 0.0;
@@ -186,11 +188,14 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
 /// target along the surface until its friction (`friction` times its normal force) slides it.
 /// At rest a body whose target lies off its normal (on a round slice, or a face met obliquely)
 /// has already slid until its pull is at that limit, and the move adds to that pull: a pinch of
-/// a round slice starts with half its bodies' friction pulling against any move.
+/// a round slice starts with half its bodies' friction pulling against any move. With
+/// `peakSlide`, the fingertip slid out to `peakSlide` first and then back to `slide`: a body that
+/// slid on the way out springs back from its limit.
 Vec2 GripSlideFriction(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                        const Vec2& restCenter, const Vec2& center, double radius,
                        const Vec2& inward, const Vec2& slide, double friction,
-                       std::span<const HiddenDisc> hidden = {});
+                       std::span<const HiddenDisc> hidden = {},
+                       std::optional<Vec2> peakSlide = std::nullopt);
 /// The torque, dyn cm about the object's origin (counter-clockwise positive), that one
 /// fingertip's bodies give an object they grip when the fingertip (contour centre `center`,
 /// object frame) has turned by `turn` radians about the origin relative to it. Each body stays
@@ -232,6 +237,39 @@ TurnStepLags TurnStepLag(const std::function<double(double)>& loading,
                          const std::function<double(double, double)>& unloading,
                          double staticTorque, double kineticTorque, double inertia, double rate,
                          double maxLag);
+
+/// Where an object is left across an opposed grip's axis by a velocity step of a carry (issue
+/// 42, eighteenth revision): the grip starts moving at `speed` (cm/s) within a frame, `across`
+/// the sine of the angle between the motion and the axis, moves on until the object slides
+/// with it, and stops within a frame. The axis is caught up at once (its springs are the
+/// normals, stiff); across only the bodies' friction and the normals of a round slice hold.
+/// `loose(l)` is the magnitude of the grip's force on the resting object with the grip moved on
+/// l (cm, up to `looseReach`) along the motion; `loading(x)` the force across with the object
+/// lagging x (cm) from rest; `unloading(peak, x)` the same once the lag has come back to x from
+/// `peak`. Table friction holds the object with up to `staticForce` at rest and `kineticForce`
+/// (dyn) along its velocity while it slides; `mass` in g. Phases (docs/physics.md, "A carry
+/// step, followed through its phases"):
+/// - at rest until loose(L0) = staticForce: it then lags L0 `across` across;
+/// - it catches up across: the lag grows while the grip's force less the table's friction across
+///   (its share w / |(v cos, w)| of kinetic friction, w the object's speed across) takes the
+///   kinetic energy 1/2 M (v sin)^2 it has relative to the grip, to the peak Lm;
+/// - it slides on with the grip where unloading(Lm, Ls) = kineticForce sin;
+/// - at the stop the axis stops first, and it runs on across from Ls until the table's whole
+///   kinetic friction less the grip's force has taken 1/2 M (v sin)^2, and rests there.
+/// `rest` is +infinity when it never breaks loose within `looseReach` or never catches up within
+/// `maxLag` of where it broke loose, -infinity when it runs on past the grip farther than twice
+/// that.
+struct CarryStepLags {
+  double breakLoose = 0.0;  ///< L0, cm along the motion
+  double peak = 0.0;        ///< Lm, cm across
+  double sliding = 0.0;     ///< Ls, cm across
+  double rest = 0.0;        ///< where it rests after the stop, cm across
+};
+CarryStepLags CarryStepLag(const std::function<double(double)>& loose, double looseReach,
+                           const std::function<double(double)>& loading,
+                           const std::function<double(double, double)>& unloading,
+                           double staticForce, double kineticForce, double mass, double speed,
+                           double across, double maxLag);
 
 /// The rule, evaluated at the parameters' grip stiffness, depth limit, particle radius and the
 /// contour spacing.
