@@ -1454,7 +1454,6 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
       // is a spring k until friction slides it. Slid further across than kBreakLooseSlip, the
       // grip would leave the object that far behind for good.
       const double k = physics.gripStiffness;
-      double looseForce = 0.0;
       // the force with the object lagging l along the axis and `acrossLag` across it: along
       // the axis, across it, and how far across the springs stretch before friction slides
       struct Lagged {
@@ -1512,25 +1511,31 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
         elastic = r.elastic;
         return looseMagnitude(r);
       };
-      constexpr int kLags = 32;
-      for (int j = 0; j <= kLags; ++j) {
-        const double l = physics.gripMaxDepth * j / kLags;
-        const double acrossLag = cosE > 0.0 ? l * sinE / cosE : kInfinity;
-        double elastic = 0.0;
-        const double force = breakingForce(l, acrossLag, elastic);
-        if (acrossLag <= elastic + kBreakLooseSlip) {
-          looseForce = std::max(looseForce, force);
-          continue;
+      // the most force the grip reaches before it has slid kBreakLooseSlip across, over mu_s W
+      // (a step follows breaking loose as one of its phases instead, below)
+      auto looseMargin = [&] {
+        constexpr int kLags = 32;
+        double looseForce = 0.0;
+        for (int j = 0; j <= kLags; ++j) {
+          const double l = physics.gripMaxDepth * j / kLags;
+          const double acrossLag = cosE > 0.0 ? l * sinE / cosE : kInfinity;
+          double elastic = 0.0;
+          const double force = breakingForce(l, acrossLag, elastic);
+          if (acrossLag <= elastic + kBreakLooseSlip) {
+            looseForce = std::max(looseForce, force);
+            continue;
+          }
+          // the grip reaches the slip it may take at a smaller axial lag: the last one tried
+          const double cap = elastic + kBreakLooseSlip;
+          const double last = cosE > 0.0 ? cap * cosE / sinE : 0.0;
+          looseForce = std::max(looseForce, breakingForce(last, cap, elastic));
+          break;
         }
-        // the grip reaches the slip it may take at a smaller axial lag: the last one tried
-        const double cap = elastic + kBreakLooseSlip;
-        const double last = cosE > 0.0 ? cap * cosE / sinE : 0.0;
-        looseForce = std::max(looseForce, breakingForce(last, cap, elastic));
-        break;
-      }
-      const double looseMargin = breakLoose > 0.0 ? looseForce / breakLoose : kInfinity;
-      p.margin = std::min(slideMargin, looseMargin);
-      if (step) {
+        return breakLoose > 0.0 ? looseForce / breakLoose : kInfinity;
+      };
+      if (!step) {
+        p.margin = std::min(slideMargin, looseMargin());
+      } else {
         // The step, opposed. Along the axis the leading side's normal forces catch the object
         // up, and stop it, within d_max: each must take the kinetic energy along the axis,
         // 1/2 M (v cos)^2, the table's kinetic friction against the catch-up in full (while the
