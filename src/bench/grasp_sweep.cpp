@@ -437,6 +437,74 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
   return total / kSamplePhases;
 }
 
+namespace {
+
+// Where a body pressing a round slice comes to rest when its target moves to `target` (object
+// frame, the slice's axis at the origin), from the angle `phi` of its centre on the circle of
+// radius rho = R + r. With the target at polar (rho_q, psi) and delta = psi - phi, its spring
+// pulls it along the surface by k rho_q sin(delta) and presses it by k min(rho - rho_q
+// cos(delta), d_max). It stays while the pull is within mu times the press; beyond, it slides
+// towards the target's radial projection (delta -> 0) and stops at the first angle where they
+// are equal again.
+double SettleOnCircle(double phi, const Vec2& target, double rho, double dMax, double friction) {
+  const double rq = target.norm();
+  if (!(rq > 1e-12)) return phi;
+  double delta = std::remainder(std::atan2(target.y(), target.x()) - phi, 2.0 * kPi);
+  auto excess = [&](double a) {  // pull beyond what friction holds at |delta| = a
+    const double press = std::min(rho - rq * std::cos(a), dMax);
+    if (press <= 0.0) return -1.0;  // not pressing there: nothing pulls it on
+    return rq * std::sin(a) - friction * press;
+  };
+  const double from = std::abs(delta);
+  if (excess(from) <= 0.0) return phi;
+  // march from |delta| towards 0 to the first angle it holds at, then bisect that interval
+  constexpr int kMarch = 64;
+  double hi = from, lo = from;
+  for (int j = 1; j <= kMarch; ++j) {
+    lo = from * (1.0 - static_cast<double>(j) / kMarch);
+    if (excess(lo) <= 0.0) break;
+    hi = lo;
+  }
+  for (int j = 0; j < 40; ++j) {
+    const double mid = 0.5 * (lo + hi);
+    (excess(mid) <= 0.0 ? lo : hi) = mid;
+  }
+  return phi + std::copysign(from - lo, delta);
+}
+
+}  // namespace
+
+Vec2 RoundFingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                         const Vec2& restCenter, const Vec2& center, double radius,
+                         const Vec2& inward, double friction, std::span<const HiddenDisc> hidden) {
+  const CrossSection slice = Slice0(object, physics);
+  if (!slice.circle) {
+    return FingertipForce(object, physics, spacing, restCenter, center, radius, inward, nullptr,
+                          hidden);
+  }
+  const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
+  const double rho = slice.radius + physics.particleRadius;
+  Vec2 total = Vec2::Zero();
+  ForEachContourSample(radius, spacing, hidden, [&](const Vec2& along) {
+    const Vec2 rest = restCenter + along;
+    const std::optional<Vec2> stop = MeetCircle(slice.radius, rest, inward, physics.particleRadius);
+    if (!stop) return;
+    // where the squeeze left it, then where the move takes it
+    double phi = SettleOnCircle(std::atan2(stop->y(), stop->x()), rest, rho, dMax, friction);
+    const Vec2 q = center + along;
+    phi = SettleOnCircle(phi, q, rho, dMax, friction);
+    const Vec2 out(std::cos(phi), std::sin(phi));
+    const Vec2 tangent(-out.y(), out.x());
+    const Vec2 offset = q - rho * out;
+    const double depth = -offset.dot(out);
+    if (depth <= 0.0) return;
+    const double normal = k * std::min(depth, dMax);
+    const double pull = std::clamp(k * offset.dot(tangent), -friction * normal, friction * normal);
+    total += -out * normal + tangent * pull;
+  });
+  return total / kSamplePhases;
+}
+
 double GripTurnTorque(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
                       const Vec2& center, double radius, const Vec2& inward, double turn,
                       double friction, std::span<const HiddenDisc> hidden,
@@ -1278,9 +1346,17 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
 
   // what the normal forces of every fingertip, together, push along u with the object lagging
   // `lag` behind the grip along u
+  // Nineteenth revision: on a round slice each body slides over it once its spring pulls along
+  // the surface by more than mu_p times its press (RoundFingertipForce), and its pull adds to the
+  // push; a body that stayed where it met the slice pushed on along its first normal however far
+  // its target went, which a slippery grip's bodies do not.
   auto pushAt = [&](const Vec2& u, double lag) {
     Vec2 sum = Vec2::Zero();
-    for (size_t i = 0; i < fingers; ++i) sum += laggedForce(i, shift, shift - u * lag);
+    for (size_t i = 0; i < fingers; ++i) {
+      const GraspFinger& f = s.fingers[i];
+      sum += RoundFingertipForce(o, physics, spacing, f.pos - shift, f.pos - shift + u * lag,
+                                 f.radius, f.inward, muP, hidden[i]);
+    }
     return sum.dot(u);
   };
   // what they can push along u while the object lags behind the grip by up to d_max (a lag the

@@ -604,6 +604,52 @@ TEST(GraspRule, ATurnNeedsTableFrictionOverTheBaseAndInertiaAgainstFingertipFric
   EXPECT_LE(turned, mu * n * 2.0 * (1.0 + 1e-9));
 }
 
+TEST(GraspRule, BodiesOnARoundSliceSlideToWhereTheirPullIsMuTimesTheirPress) {
+  // A fingertip of radius 0.01 cm is three bodies at one point: it came in along -x at height
+  // y0 = 1 onto a cylinder of radius R = 2 (its bodies' centres meet the circle rho = R + r at
+  // s = (sqrt(rho^2 - y0^2), y0)), was pressed in to q0 = s + (-0.5, 0), and then moved by
+  // (-0.3, 0.5). The samples lie within 0.01 cm of the centre: the force is 3 bodies' within
+  // 3 k 0.01 = 1,730 dyn.
+  const PhysicsParams physics;
+  const double k = physics.gripStiffness, dMax = physics.gripMaxDepth;
+  const ObjectSpec cylinder = Cylinder(2.0, 100.0);
+  const double rho = 2.0 + physics.particleRadius, y0 = 1.0;
+  const Vec2 s(std::sqrt(rho * rho - y0 * y0), y0);
+  const Vec2 rest = s + Vec2(-0.5, 0.0), moved = rest + Vec2(-0.3, 0.5);
+  const double tolerance = 3.0 * k * 0.01;
+  auto force = [&](double mu) {
+    return RoundFingertipForce(cylinder, physics, 0.3, rest, moved, 0.01, Vec2(-1.0, 0.0), mu);
+  };
+  // Frictionless, a body rests at its target's radial projection and presses towards the axis
+  // by k min(rho - |q|, d_max).
+  const Vec2 radial = -3.0 * k * std::min(rho - moved.norm(), dMax) * moved.normalized();
+  EXPECT_NEAR((force(0.0) - radial).norm(), 0.0, tolerance);
+  // With friction to spare it stays where it met the slice, and gives its spring's pull along
+  // the surface there as well as its press along the normal.
+  const Vec2 n = -s / rho, t(-n.y(), n.x());
+  const Vec2 stuck = 3.0 * k * (std::min((moved - s).dot(n), dMax) * n + (moved - s).dot(t) * t);
+  EXPECT_NEAR((force(10.0) - stuck).norm(), 0.0, tolerance);
+  // In between it slides until its pull is mu times its press: the force leans off the normal
+  // by atan(mu), and the body it came from sits on the circle between where it met the slice
+  // and the target's projection, with its spring giving that force.
+  const double mu = 0.2;
+  const Vec2 f = force(mu) / 3.0;
+  for (double lean : {std::atan(mu), -std::atan(mu)}) {
+    const Vec2 normal = Vec2(std::cos(lean) * f.x() + std::sin(lean) * f.y(),
+                             -std::sin(lean) * f.x() + std::cos(lean) * f.y())
+                            .normalized();
+    const Vec2 at = -rho * normal;  // the body's centre
+    const Vec2 along(-normal.y(), normal.x());
+    const Vec2 spring =
+        k * (std::min((moved - at).dot(normal), dMax) * normal + (moved - at).dot(along) * along);
+    if ((spring - f).norm() < tolerance / 3.0) {
+      SUCCEED();
+      return;
+    }
+  }
+  ADD_FAILURE() << "no body on the circle gives " << f.transpose() << " at friction " << mu;
+}
+
 TEST(GraspRule, AFingertipPushedPastTheCentreOfASmallerRoundSliceStillPushesForward) {
   // A fingertip of radius 1.5 came in along -x onto a cylinder of radius 1 and was pushed on
   // until its centre is 0.5 cm beyond the cylinder's axis. Its bodies stopped where they met

@@ -181,6 +181,17 @@ Vec2 FingertipForce(const ObjectSpec& object, const PhysicsParams& physics, doub
                     const Vec2& restCenter, const Vec2& center, double radius, const Vec2& inward,
                     double* pressing = nullptr, std::span<const HiddenDisc> hidden = {},
                     double slideFriction = 0.0);
+/// The force, dyn (object frame), of one fingertip that came in to `restCenter` and then moved to
+/// `center` relative to a round slice (the object lagging), with each body free to slide over
+/// the slice (issue 42, nineteenth revision): a body pulled along the surface by more than
+/// `friction` times its press slides towards its target's radial projection until the two are
+/// equal, first as the squeeze pressed it in and then as the move goes on. Each pressing body
+/// gives its normal force and its pull along the surface (its friction). On a polygon it is
+/// FingertipForce (bodies on a flat face keep their normal as they slide).
+Vec2 RoundFingertipForce(const ObjectSpec& object, const PhysicsParams& physics, double spacing,
+                         const Vec2& restCenter, const Vec2& center, double radius,
+                         const Vec2& inward, double friction,
+                         std::span<const HiddenDisc> hidden = {});
 /// The friction force, dyn (object frame), that one fingertip's bodies give an object they grip
 /// when the fingertip came in to `restCenter` (object frame), then moved to `center` (which sets
 /// each body's normal force, by its target's depth, as in FingertipForce) and on by `slide` along
