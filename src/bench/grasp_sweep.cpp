@@ -1344,8 +1344,8 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
     bodiesAtRest += pressing;
   }
 
-  // what the normal forces of every fingertip, together, push along u with the object lagging
-  // `lag` behind the grip along u
+  // what every fingertip, together, pushes along u with the object lagging `lag` behind the grip
+  // along u: their normal forces, and on a round slice their bodies' pull along it.
   // Nineteenth revision: on a round slice each body slides over it once its spring pulls along
   // the surface by more than mu_p times its press (RoundFingertipForce), and its pull adds to the
   // push; a body that stayed where it met the slice pushed on along its first normal however far

@@ -630,8 +630,7 @@ TEST(GraspRule, BodiesOnARoundSliceSlideToWhereTheirPullIsMuTimesTheirPress) {
   const Vec2 stuck = 3.0 * k * (std::min((moved - s).dot(n), dMax) * n + (moved - s).dot(t) * t);
   EXPECT_NEAR((force(10.0) - stuck).norm(), 0.0, tolerance);
   // In between it slides until its pull is mu times its press: the force leans off the normal
-  // by atan(mu), and the body it came from sits on the circle between where it met the slice
-  // and the target's projection, with its spring giving that force.
+  // by atan(mu), and a body on the circle there, its spring pulled towards the target, gives it.
   const double mu = 0.2;
   const Vec2 f = force(mu) / 3.0;
   for (double lean : {std::atan(mu), -std::atan(mu)}) {
