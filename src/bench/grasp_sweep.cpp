@@ -1345,11 +1345,10 @@ GraspPrediction PredictConfig(const GraspScene& s, const PhysicsParams& physics,
   }
 
   // what every fingertip, together, pushes along u with the object lagging `lag` behind the grip
-  // along u: their normal forces, and on a round slice their bodies' pull along it.
-  // Nineteenth revision: on a round slice each body slides over it once its spring pulls along
-  // the surface by more than mu_p times its press (RoundFingertipForce), and its pull adds to the
-  // push; a body that stayed where it met the slice pushed on along its first normal however far
-  // its target went, which a slippery grip's bodies do not.
+  // along u. Nineteenth revision: on a round slice each body slides over it once its spring pulls
+  // along the surface by more than mu_p times its press, and its pull adds to the push
+  // (RoundFingertipForce); a body kept where it met the slice pushed on along its first normal
+  // however far its target went, which a slippery grip's bodies do not.
   auto pushAt = [&](const Vec2& u, double lag) {
     Vec2 sum = Vec2::Zero();
     for (size_t i = 0; i < fingers; ++i) {
